@@ -1,0 +1,31 @@
+// earshot: head-tracked binaural audio. One executable, one subcommand per job.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "earshot/errors.hpp"
+#include "track_commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"earshot: head-tracked binaural audio renderer (Wii Remote head tracking + HRTFs)"};
+  app.set_version_flag("--version", std::string("earshot ") + EARSHOT_VERSION);
+  app.require_subcommand(1);
+
+  auto* track = app.add_subcommand("track", "Head tracking: simulate a camera, solve poses from dots");
+  track->require_subcommand(1);
+  earshot::app::add_track_commands(*track);
+  earshot::app::add_demo_command(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const earshot::InputError& e) {
+    std::fprintf(stderr, "earshot: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "earshot: error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,215 @@
+#include "track_commands.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "earshot/errors.hpp"
+#include "earshot/tracker/accuracy.hpp"
+#include "earshot/tracker/dot_tracker.hpp"
+#include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/simulator.hpp"
+
+namespace earshot::app {
+namespace {
+
+using namespace earshot::tracker;
+
+struct CameraOptions {
+  double focal = 1280.0;
+  std::string model_path;
+
+  void add_to(CLI::App& cmd) {
+    cmd.add_option("--focal", focal, "Camera focal length in pixels (1024x768 image)")
+        ->capture_default_str()
+        ->check(CLI::PositiveNumber);
+    cmd.add_option("--model", model_path, "Model JSON with the beacon's LED positions (default: thesis beacon)");
+  }
+  [[nodiscard]] Camera camera() const { return Camera::with_focal(focal); }
+  [[nodiscard]] LedModel model() const { return model_path.empty() ? LedModel::thesis() : load_led_model(model_path); }
+};
+
+struct SimulateOptions {
+  CameraOptions cam;
+  SimulatorConfig sim;
+  long frames = 10000;
+  std::string pixels = "integer";
+  std::string out;
+};
+
+struct SolveOptions {
+  CameraOptions cam;
+  std::string dots;
+  std::string out;
+  std::string method = "lm";
+  std::string filter = "none";
+  double gate_px = 4.0;
+};
+
+/// What a tracking run did, and how well when ground truth is known.
+struct Summary {
+  long frames = 0, tracking = 0, predicted = 0, lost = 0;
+  long frames_3plus = 0, tracked_3plus = 0;  // frames with >= 3 LED dots (per truth)
+  double reproj_sum = 0.0;
+  long flips = 0;  // tracked frames with a rotation error above 20 degrees
+  AccuracyCollector all, four_dot;
+
+  void add(const DotFrame& f, const TrackResult& r) {
+    ++frames;
+    if (r.state == TrackState::tracking) {
+      ++tracking;
+      reproj_sum += r.rms_px;
+    } else if (r.state == TrackState::predicted) {
+      ++predicted;
+    } else {
+      ++lost;
+    }
+    int leds = f.visible();
+    if (f.truth) {
+      leds = 0;
+      for (int l : f.truth->slot_led) leds += l > 0 ? 1 : 0;
+    }
+    if (leds >= 3) {
+      ++frames_3plus;
+      tracked_3plus += r.state == TrackState::tracking ? 1 : 0;
+    }
+    if (f.truth && r.state == TrackState::tracking) {
+      all.add(r.pose, f.truth->pose);
+      if (leds == 4) four_dot.add(r.pose, f.truth->pose);
+      if (rotation_angle_between(r.pose.R, f.truth->pose.R) > 20.0 * M_PI / 180.0) ++flips;
+    }
+  }
+
+  void print(std::FILE* out, std::string_view method) const {
+    auto pct = [](long a, long b) { return b ? 100.0 * static_cast<double>(a) / static_cast<double>(b) : 0.0; };
+    std::fprintf(out, "method            %.*s\n", static_cast<int>(method.size()), method.data());
+    std::fprintf(out, "frames            %ld\n", frames);
+    std::fprintf(out, "tracked           %.2f %%  (predicted %.2f %%, lost %.2f %%)\n", pct(tracking, frames),
+                 pct(predicted, frames), pct(lost, frames));
+    std::fprintf(out, "tracked of frames with >= 3 dots  %.3f %%  (%ld of %ld)\n", pct(tracked_3plus, frames_3plus),
+                 tracked_3plus, frames_3plus);
+    std::fprintf(out, "mean reprojection error  %.3f px\n", tracking ? reproj_sum / static_cast<double>(tracking) : 0.0);
+    if (all.count() == 0) return;
+    auto row = [&](const char* name, const ErrorStats& s, const char* unit) {
+      std::fprintf(out, "%-26s RMS %8.3f  p95 %8.3f  max %9.3f %s  (n=%zu)\n", name, s.rms, s.p95, s.max, unit, s.count);
+    };
+    row("rotation error", all.rotation_deg(), "deg");
+    row("translation error", all.translation_mm(), "mm");
+    row("rotation error, 4 dots", four_dot.rotation_deg(), "deg");
+    row("translation error, 4 dots", four_dot.translation_mm(), "mm");
+    std::fprintf(out, "flipped frames (> 20 deg) %ld\n", flips);
+  }
+};
+
+std::ostream& open_out(const std::string& path, std::ofstream& file) {
+  if (path == "-") return std::cout;
+  file.open(path);
+  if (!file) throw InputError::at(path, 0, "", "cannot create file");
+  return file;
+}
+
+void run_simulate(const SimulateOptions& o) {
+  SimulatorConfig cfg = o.sim;
+  const auto px = pixel_model_from(o.pixels);
+  if (!px) throw InputError::at("--pixels", 0, "", "unknown pixel model '" + o.pixels + "'");
+  cfg.pixels = *px;
+  Simulator sim(o.cam.camera(), o.cam.model(), cfg);
+  std::ofstream file;
+  std::ostream& out = open_out(o.out, file);
+  DotsCsvWriter w(out, true);
+  for (long i = 0; i < o.frames; ++i) w.write(sim.next());
+  out.flush();
+  if (!out) throw InputError::at(o.out, 0, "", "write failed");
+}
+
+TrackerConfig tracker_config(const std::string& method, const std::string& filter, double gate) {
+  TrackerConfig cfg;
+  const auto m = solver_method_from(method);
+  if (!m) throw InputError::at("--method", 0, "", "unknown method '" + method + "' (thesis, lm)");
+  cfg.method = *m;
+  const auto f = filter_kind_from(filter);
+  if (!f) throw InputError::at("--filter", 0, "", "unknown filter '" + filter + "' (none, one-euro, median5)");
+  cfg.filter = *f;
+  cfg.labeller.fit_gate_px = gate;
+  return cfg;
+}
+
+void run_solve(const SolveOptions& o) {
+  std::ifstream in(o.dots);
+  if (!in) throw InputError::at(o.dots, 0, "", "cannot open file");
+  DotsCsvReader reader(in, o.dots);
+  DotTracker tracker(o.cam.camera(), o.cam.model(), tracker_config(o.method, o.filter, o.gate_px));
+  std::ofstream file;
+  std::optional<PosesCsvWriter> writer;
+  if (!o.out.empty()) writer.emplace(open_out(o.out, file));
+  Summary sum;
+  while (auto f = reader.next()) {
+    const TrackResult r = tracker.process(*f);
+    if (writer) writer->write({r.t, r.state, r.pose});
+    sum.add(*f, r);
+  }
+  sum.print(o.out == "-" ? stderr : stdout, o.method);
+}
+
+}  // namespace
+
+void add_track_commands(CLI::App& track) {
+  auto sim_opts = std::make_shared<SimulateOptions>();
+  auto* sim = track.add_subcommand("simulate", "Simulate the Wii camera watching the beacon on a seeded random walk; writes a Dots CSV with ground truth");
+  sim->add_option("--out,-o", sim_opts->out, "Dots CSV to write ('-' for stdout)")->required();
+  sim->add_option("--frames,-n", sim_opts->frames, "Number of frames")->capture_default_str()->check(CLI::PositiveNumber);
+  sim->add_option("--seed", sim_opts->sim.seed, "Random seed")->capture_default_str();
+  sim->add_option("--rate", sim_opts->sim.rate_hz, "Camera frame rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  sim->add_option("--pixels", sim_opts->pixels, "Pixel model: exact, integer, quantize8 (thesis), gaussian")->capture_default_str();
+  sim->add_option("--noise", sim_opts->sim.noise_px, "Pixel noise sigma for --pixels gaussian")->capture_default_str();
+  sim->add_option("--z-min", sim_opts->sim.z_min_mm, "Nearest distance, mm")->capture_default_str();
+  sim->add_option("--z-max", sim_opts->sim.z_max_mm, "Farthest distance, mm")->capture_default_str();
+  sim->add_option("--yaw-max", sim_opts->sim.yaw_max_deg, "Yaw range +-, degrees")->capture_default_str();
+  sim->add_option("--pitch-max", sim_opts->sim.pitch_max_deg, "Pitch range +-, degrees")->capture_default_str();
+  sim->add_option("--roll-max", sim_opts->sim.roll_max_deg, "Roll range +-, degrees (>= 180: full circle)")->capture_default_str();
+  sim->add_option("--speed", sim_opts->sim.speed_mm_s, "RMS translation speed, mm/s")->capture_default_str();
+  sim->add_option("--angular-speed", sim_opts->sim.angular_speed_deg_s, "RMS angular speed, deg/s")->capture_default_str();
+  sim->add_option("--dropout", sim_opts->sim.dropout_rate, "Per LED and frame: probability a dropout starts")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  sim->add_option("--stray", sim_opts->sim.stray_rate, "Per frame: probability a stray reflection appears")->capture_default_str()->check(CLI::Range(0.0, 1.0));
+  sim_opts->cam.add_to(*sim);
+  sim->callback([sim_opts] { run_simulate(*sim_opts); });
+
+  auto solve_opts = std::make_shared<SolveOptions>();
+  auto* solve = track.add_subcommand("solve", "Run the tracker on a Dots CSV; writes a Poses CSV and prints a summary");
+  solve->add_option("--dots,-d", solve_opts->dots, "Dots CSV to read")->required();
+  solve->add_option("--out,-o", solve_opts->out, "Poses CSV to write ('-' for stdout)");
+  solve->add_option("--method", solve_opts->method, "Solver: lm (ours) or thesis (the 2009 reference)")->capture_default_str();
+  solve->add_option("--filter", solve_opts->filter, "Jitter filter: none, one-euro, median5")->capture_default_str();
+  solve->add_option("--gate", solve_opts->gate_px, "Largest accepted RMS reprojection error, px")->capture_default_str()->check(CLI::PositiveNumber);
+  solve_opts->cam.add_to(*solve);
+  solve->callback([solve_opts] { run_solve(*solve_opts); });
+}
+
+void add_demo_command(CLI::App& app) {
+  auto opts = std::make_shared<SimulateOptions>();
+  auto method = std::make_shared<std::string>("lm");
+  auto* demo = app.add_subcommand("demo", "Simulate a head walk in front of the camera, track it, and print the accuracy");
+  demo->add_option("--frames,-n", opts->frames, "Frames to simulate (100 per second)")->capture_default_str();
+  demo->add_option("--seed", opts->sim.seed, "Random seed")->capture_default_str();
+  demo->add_option("--method", *method, "Solver: lm or thesis")->capture_default_str();
+  demo->callback([opts, method] {
+    Simulator sim(opts->cam.camera(), opts->cam.model(), opts->sim);
+    DotTracker tracker(opts->cam.camera(), opts->cam.model(), tracker_config(*method, "none", 4.0));
+    Summary sum;
+    for (long i = 0; i < opts->frames; ++i) {
+      const DotFrame f = sim.next();
+      sum.add(f, tracker.process(f));
+    }
+    std::printf("earshot demo: simulated Wii camera (f = 1280 px, integer pixels), thesis beacon,\n"
+                "%ld frames of a seeded random walk, tracked with '%s'\n\n", opts->frames, method->c_str());
+    sum.print(stdout, *method);
+  });
+}
+
+}  // namespace earshot::app

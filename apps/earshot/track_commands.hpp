@@ -1,0 +1,14 @@
+// `earshot track ...`: simulate, solve and summarise head tracking runs.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace earshot::app {
+
+/// Adds `track simulate` and `track solve` to `track`.
+void add_track_commands(CLI::App& track);
+
+/// Adds `demo` (for now: simulate a head walk, track it, print accuracy).
+void add_demo_command(CLI::App& app);
+
+}  // namespace earshot::app

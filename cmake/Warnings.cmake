@@ -1,0 +1,5 @@
+# Project-wide warning set, applied per target through earshot_warnings().
+add_library(earshot_warnings INTERFACE)
+target_compile_options(earshot_warnings INTERFACE
+  $<$<COMPILE_LANG_AND_ID:CXX,GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion>
+  $<$<COMPILE_LANG_AND_ID:C,GNU,Clang>:-Wall -Wextra -Wpedantic>)

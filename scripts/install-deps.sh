@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs the Debian packages Earshot needs, only those that are missing.
+# Usage: scripts/install-deps.sh            (build + test dependencies)
+# Each package and why it is here is listed in README.md ("Dependencies").
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++ pkg-config
+  libeigen3-dev          # geometry and small dense solvers (tracker)
+  libcli11-dev           # command-line parser of the earshot tool
+  nlohmann-json3-dev     # Model / Scene JSON
+  libmysofa-dev libmysofa1   # SOFA HRTF files; ships the MIT KEMAR default set
+  libsndfile1-dev        # WAV/FLAC/OGG reading and writing
+  libgtest-dev libgmock-dev  # unit tests
+  libbenchmark-dev       # benchmarks (tests/bench)
+  libopencv-dev          # reference PnP solver, only in tests and benchmarks
+  clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes
+  python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# The test command: installs what is missing, builds Release and runs the
+# quick tests, then rebuilds the unit tests under ASan+UBSan and runs them.
+#   scripts/run-tests.sh            quick suites (what CI runs)
+#   EARSHOT_SLOW=1 scripts/run-tests.sh   also the slow label
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+
+jobs=$(nproc)
+echo "== Release build"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build/release -j "$jobs"
+label_args=(-LE slow)
+[ "${EARSHOT_SLOW:-0}" = 1 ] && label_args=()
+ctest --test-dir build/release --output-on-failure -j "$jobs" "${label_args[@]}"
+
+echo "== ASan+UBSan build (unit tests)"
+cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DEARSHOT_SANITIZE=address,undefined -DEARSHOT_BUILD_BENCH=OFF >/dev/null
+cmake --build build/asan -j "$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build/asan --output-on-failure -j "$jobs" -L unit

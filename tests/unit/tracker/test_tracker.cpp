@@ -1,0 +1,112 @@
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "earshot/tracker/accuracy.hpp"
+#include "earshot/tracker/dot_tracker.hpp"
+#include "earshot/tracker/simulator.hpp"
+#include "random_poses.hpp"
+
+using namespace earshot::tracker;
+
+namespace {
+struct WalkResult {
+  long frames3 = 0, tracked3 = 0, flips = 0, nan = 0;
+  AccuracyCollector acc;
+};
+
+WalkResult walk(TrackerConfig tcfg, SimulatorConfig scfg, int frames) {
+  const Camera cam;
+  const LedModel model;
+  Simulator sim(cam, model, scfg);
+  DotTracker tracker(cam, model, tcfg);
+  WalkResult w;
+  for (int i = 0; i < frames; ++i) {
+    const DotFrame f = sim.next();
+    const TrackResult r = tracker.process(f);
+    w.nan += r.pose.finite() ? 0 : 1;
+    int leds = 0;
+    for (int l : f.truth->slot_led) leds += l > 0;
+    if (leds >= 3) {
+      ++w.frames3;
+      w.tracked3 += r.state == TrackState::tracking;
+    }
+    if (r.state == TrackState::tracking) {
+      w.acc.add(r.pose, f.truth->pose);
+      w.flips += rotation_angle_between(r.pose.R, f.truth->pose.R) > 0.35;
+    }
+  }
+  return w;
+}
+}  // namespace
+
+TEST(DotTracker, TracksANoiseFreeWalkExactlyAtAnyRoll) {
+  SimulatorConfig s;
+  s.pixels = PixelModel::exact;
+  s.roll_max_deg = 180;
+  s.seed = 3;
+  const auto w = walk({}, s, 3000);
+  EXPECT_EQ(w.nan, 0);
+  EXPECT_GT(w.frames3, 1000);
+  // Frames after a loss that show only three dots cannot be labelled yet.
+  EXPECT_GT(static_cast<double>(w.tracked3) / static_cast<double>(w.frames3), 0.99);
+  EXPECT_LT(w.acc.rotation_deg().max, 1e-4);
+  EXPECT_LT(w.acc.translation_mm().max, 1e-3);
+}
+
+TEST(DotTracker, TracksThreeDotFrames) {
+  const Camera cam;
+  const LedModel model;
+  DotTracker tracker(cam, model);
+  const Pose p0{rotation_from_ypr(0.1, 0.05, 1.0), Vec3(20, 10, 1000)};
+  ASSERT_EQ(tracker.process(fixtures::frame_of(p0, cam, model, {2, 0, 3, 1}, 0.0)).state, TrackState::tracking);
+  for (int i = 1; i < 50; ++i) {
+    const Pose p{rotation_from_ypr(0.1 + 0.005 * i, 0.05, 1.0), Vec3(20 + i, 10, 1000)};
+    const auto r = tracker.process(fixtures::frame_of(p, cam, model, {2, -1, 3, 1}, 0.01 * i));
+    ASSERT_EQ(r.state, TrackState::tracking) << "frame " << i;
+    EXPECT_EQ(r.dots_used, 3);
+    EXPECT_LT(rotation_angle_between(r.pose.R, p.R), 1e-6);
+  }
+}
+
+TEST(DotTracker, PredictsThenLosesThenReacquires) {
+  const Camera cam;
+  const LedModel model;
+  DotTracker tracker(cam, model);
+  const Pose p{Mat3::Identity(), Vec3(0, 0, 1000)};
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, 1, 2, 3}, 0.0)).state, TrackState::tracking);
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, -1, -1, 3}, 0.01)).state, TrackState::predicted);
+  const auto lost = tracker.process(fixtures::frame_of(p, cam, model, {-1, -1, -1, -1}, 0.5));
+  EXPECT_EQ(lost.state, TrackState::lost);
+  EXPECT_TRUE(lost.has_pose);  // holds the last pose
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {3, 2, 1, 0}, 0.51)).state, TrackState::tracking);
+}
+
+TEST(DotTracker, IntegerPixelWalkWithDropoutsAndStrays) {
+  SimulatorConfig s;
+  s.seed = 8;
+  s.roll_max_deg = 180;
+  s.dropout_rate = 0.002;
+  s.stray_rate = 0.002;
+  const auto w = walk({}, s, 5000);
+  EXPECT_EQ(w.nan, 0);
+  EXPECT_GT(static_cast<double>(w.tracked3) / static_cast<double>(w.frames3), 0.98);
+  EXPECT_LE(w.flips, 5);
+  EXPECT_LT(w.acc.rotation_deg().rms, 2.0);
+  EXPECT_LT(w.acc.translation_mm().rms, 8.0);
+}
+
+TEST(DotTracker, ThesisMethodTracksAnUprightWalk) {
+  SimulatorConfig s;
+  s.seed = 5;
+  s.pixels = PixelModel::exact;
+  s.yaw_max_deg = 25;
+  s.pitch_max_deg = 20;
+  s.roll_max_deg = 10;
+  TrackerConfig t;
+  t.method = SolverMethod::thesis;
+  const auto w = walk(t, s, 2000);
+  EXPECT_EQ(w.nan, 0);
+  EXPECT_GT(w.acc.count(), 1000u);
+  EXPECT_LT(w.acc.rotation_deg().rms, 2.0);  // the median filter lags a little
+}

@@ -1,0 +1,81 @@
+// The pose pipeline for one camera: dots in, beacon pose out.
+//   label (labeller.hpp) -> solve (solver.hpp) -> filter (filters.hpp)
+// It keeps a state per frame: tracking (solved from 3 or 4 dots), predicted
+// (too few dots, pose extrapolated for up to `predict_timeout_s`) or lost.
+//
+// Near-planar beacons (like the thesis's) admit two poses that fit one frame
+// almost equally well. After (re)acquisition the tracker follows every
+// hypothesis that fits, frame by frame from its own prediction, and keeps the
+// one whose reprojection error stays lowest; it never switches between them
+// while tracking, so the pose does not flip.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/filters.hpp"
+#include "earshot/tracker/labeller.hpp"
+#include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/solver.hpp"
+
+namespace earshot::tracker {
+
+enum class FilterKind { none, one_euro, median5 };
+[[nodiscard]] std::optional<FilterKind> filter_kind_from(std::string_view name);
+
+struct TrackerConfig {
+  SolverMethod method = SolverMethod::lm;
+  FilterKind filter = FilterKind::none;
+  LabellerOptions labeller{};
+  double predict_timeout_s = 0.1;  ///< predicted state lasts at most this long
+  int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
+};
+
+struct TrackResult {
+  double t = 0.0;
+  TrackState state = TrackState::lost;
+  bool has_pose = false;  ///< false only before the first pose ever
+  Pose pose;              ///< filtered (or predicted) pose; held when lost
+  Pose raw_pose;          ///< solver output before the filter (tracking only)
+  double rms_px = 0.0;    ///< reprojection error of the solve (tracking only)
+  int dots_used = 0;
+  std::array<int, kSlots> slot_led{-1, -1, -1, -1};  ///< LED 0-3 per slot
+};
+
+class DotTracker {
+ public:
+  DotTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg = {});
+  ~DotTracker();
+  DotTracker(DotTracker&&) noexcept;
+  DotTracker& operator=(DotTracker&&) noexcept;
+
+  TrackResult process(const DotFrame& frame);
+  /// Constant-velocity prediction of the raw pose at time t (after a solve).
+  [[nodiscard]] std::optional<Pose> predict(double t) const;
+  void reset();
+
+  [[nodiscard]] const TrackerConfig& config() const { return cfg_; }
+
+ private:
+  struct Hypothesis;
+  TrackResult process_lm(const DotFrame& frame);
+  TrackResult process_thesis(const DotFrame& frame);
+  TrackResult finish(TrackResult r);
+
+  Camera cam_;
+  LedModel model_;
+  TrackerConfig cfg_;
+  Labeller labeller_;
+  ThesisLabeller thesis_labeller_;
+  std::unique_ptr<PoseSolver> thesis_solver_;
+  std::vector<Hypothesis> hyps_;
+  PoseOneEuro one_euro_;
+  MedianPoseFilter median_;
+  ConstantVelocity cv_;
+  std::optional<Pose> last_output_;
+  double last_solve_t_ = -1e300;
+};
+
+}  // namespace earshot::tracker

@@ -1,0 +1,70 @@
+// Labelling: which image dot is which LED, for any roll and any slot order.
+//
+// Acquisition tests hypotheses geometrically: three dots are given three LEDs
+// (every ordered choice), Lambda Twist P3P gives up to four poses each, and a
+// hypothesis must reproject the remaining LED onto the remaining dot. The
+// survivors are refined by LM on all dots and must fit within the pixel gate.
+// While tracking, the predicted pose's projections are matched to the dots
+// (best of all assignments, gated), so slot swaps and re-appearing dots are
+// labelled too. A labelling that does not fit the model is rejected.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <vector>
+
+#include "earshot/tracker/correspondence.hpp"
+#include "earshot/tracker/dots_csv.hpp"
+
+namespace earshot::tracker {
+
+struct LabellerOptions {
+  /// Largest RMS reprojection error (px) of an accepted labelling.
+  double fit_gate_px = 4.0;
+  /// Largest distance (px) between a predicted LED projection and its dot.
+  double match_gate_px = 40.0;
+};
+
+/// One labelling hypothesis with its refined pose.
+struct Labelling {
+  std::array<int, kSlots> slot_led{-1, -1, -1, -1};  ///< LED 0-3 per slot, -1 none
+  LabelledDots dots;
+  Pose pose;
+  double rms_px = 0.0;
+};
+
+class Labeller {
+ public:
+  Labeller(const Camera& cam, const LedModel& model, LabellerOptions opt = {});
+
+  /// Every labelling of a frame with four or more dots that fits the model,
+  /// best first (at most `max_hypotheses`). Empty when nothing fits.
+  [[nodiscard]] std::vector<Labelling> acquire(const DotFrame& frame, size_t max_hypotheses = 4) const;
+
+  /// Labels a frame near a predicted pose (3 or 4 dots). nullopt when fewer
+  /// than three dots match within the gate.
+  [[nodiscard]] std::optional<Labelling> follow(const DotFrame& frame, const Pose& predicted) const;
+
+  [[nodiscard]] const LabellerOptions& options() const { return opt_; }
+
+ private:
+  Camera cam_;
+  LedModel model_;
+  LabellerOptions opt_;
+};
+
+/// The thesis's labelling (section 3.2.6): at the start, split the dots into
+/// two rows by y and each row by x (valid only while the head is upright);
+/// afterwards, each LED takes the nearest dot of the next frame.
+class ThesisLabeller {
+ public:
+  /// Labelled dots (all four) or nullopt when fewer than four are visible.
+  std::optional<LabelledDots> label(const DotFrame& frame);
+  void reset() { have_prev_ = false; }
+
+ private:
+  std::array<Vec2, 4> prev_{};
+  bool have_prev_ = false;
+};
+
+}  // namespace earshot::tracker

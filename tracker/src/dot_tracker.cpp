@@ -1,0 +1,182 @@
+#include "earshot/tracker/dot_tracker.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "earshot/tracker/lm_solver.hpp"
+#include "earshot/tracker/thesis_solver.hpp"
+
+namespace earshot::tracker {
+
+std::optional<FilterKind> filter_kind_from(std::string_view name) {
+  if (name == "none") return FilterKind::none;
+  if (name == "one-euro") return FilterKind::one_euro;
+  if (name == "median5") return FilterKind::median5;
+  return std::nullopt;
+}
+
+/// One way of explaining the dots, followed frame by frame.
+struct DotTracker::Hypothesis {
+  Pose pose;
+  ConstantVelocity cv;
+  double cost_sum = 0.0;  ///< sum of squared RMS reprojection errors
+  int frames = 0;
+  double rms = 0.0;
+  int dots = 0;
+  std::array<int, kSlots> slot_led{-1, -1, -1, -1};
+};
+
+DotTracker::DotTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg)
+    : cam_(cam),
+      model_(model),
+      cfg_(cfg),
+      labeller_(cam, model, cfg.labeller),
+      thesis_solver_(std::make_unique<ThesisSolver>(cam, model)) {
+  hyps_.reserve(8);
+}
+
+DotTracker::~DotTracker() = default;
+DotTracker::DotTracker(DotTracker&&) noexcept = default;
+DotTracker& DotTracker::operator=(DotTracker&&) noexcept = default;
+
+void DotTracker::reset() {
+  hyps_.clear();
+  thesis_labeller_.reset();
+  thesis_solver_->reset();
+  one_euro_.reset();
+  median_.reset();
+  cv_.reset();
+  last_output_.reset();
+  last_solve_t_ = -1e300;
+}
+
+std::optional<Pose> DotTracker::predict(double t) const { return cv_.predict(t); }
+
+TrackResult DotTracker::process(const DotFrame& frame) {
+  return finish(cfg_.method == SolverMethod::thesis ? process_thesis(frame) : process_lm(frame));
+}
+
+TrackResult DotTracker::process_thesis(const DotFrame& frame) {
+  TrackResult r;
+  r.t = frame.t;
+  const auto dots = thesis_labeller_.label(frame);
+  if (!dots) return r;  // state lost: the thesis drops incomplete frames
+  const auto pose = thesis_solver_->solve({dots->view(), nullptr});
+  if (!pose) return r;
+  r.state = TrackState::tracking;
+  r.raw_pose = *pose;
+  r.dots_used = 4;
+  r.rms_px = rms_reprojection_error(*pose, dots->view(), cam_, model_);
+  for (int s = 0; s < kSlots; ++s) {
+    const auto& d = frame.slots[static_cast<size_t>(s)];
+    if (!d) continue;
+    for (const auto& c : dots->view())
+      if (c.pixel == *d) r.slot_led[static_cast<size_t>(s)] = c.led;
+  }
+  return r;
+}
+
+TrackResult DotTracker::process_lm(const DotFrame& frame) {
+  TrackResult r;
+  r.t = frame.t;
+  LmSolver solver(cam_, model_);
+  const int visible = frame.visible();
+
+  // Follow each hypothesis from its own prediction.
+  bool any_ok = false;
+  for (auto& h : hyps_) {
+    h.dots = 0;
+    const Pose pred = h.cv.predict(frame.t).value_or(h.pose);
+    const auto lab = labeller_.follow(frame, pred);
+    if (!lab) continue;
+    const auto pose = solver.solve({lab->dots.view(), &pred});
+    if (!pose) continue;
+    const double rms = rms_reprojection_error(*pose, lab->dots.view(), cam_, model_);
+    if (!(rms <= cfg_.labeller.fit_gate_px)) continue;
+    h.pose = *pose;
+    h.cv.observe(*pose, frame.t);
+    h.rms = rms;
+    h.dots = lab->dots.count;
+    h.slot_led = lab->slot_led;
+    h.cost_sum += rms * rms;
+    ++h.frames;
+    any_ok = true;
+  }
+  if (any_ok) {
+    std::erase_if(hyps_, [](const Hypothesis& h) { return h.dots == 0; });
+  } else if (visible >= 4 || frame.t - last_solve_t_ > cfg_.predict_timeout_s) {
+    hyps_.clear();  // lost the thread: acquire afresh from this frame
+  }
+
+  if (hyps_.empty() && visible >= 4) {
+    for (const auto& l : labeller_.acquire(frame)) {
+      Hypothesis h;
+      h.pose = l.pose;
+      h.cv.observe(l.pose, frame.t);
+      h.rms = l.rms_px;
+      h.cost_sum = l.rms_px * l.rms_px;
+      h.frames = 1;
+      h.dots = l.dots.count;
+      h.slot_led = l.slot_led;
+      hyps_.push_back(h);
+    }
+    if (!hyps_.empty()) {
+      one_euro_.reset();
+      median_.reset();
+    }
+  }
+
+  // Rival hypotheses compete on accumulated reprojection error; the loser
+  // goes once it is clearly worse or the contest has run its course.
+  if (hyps_.size() > 1) {
+    auto best = std::min_element(hyps_.begin(), hyps_.end(), [](const auto& a, const auto& b) {
+      return a.cost_sum < b.cost_sum;
+    });
+    const double best_cost = best->cost_sum;
+    const int frames = best->frames;
+    std::erase_if(hyps_, [&](const Hypothesis& h) {
+      return h.cost_sum > 4.0 * best_cost + 1.0 || (frames >= cfg_.disambiguation_frames && h.cost_sum > best_cost);
+    });
+  }
+
+  const Hypothesis* best = nullptr;
+  for (const auto& h : hyps_)
+    if (h.dots > 0 && (!best || h.cost_sum < best->cost_sum)) best = &h;
+  if (best) {
+    r.state = TrackState::tracking;
+    r.raw_pose = best->pose;
+    r.rms_px = best->rms;
+    r.dots_used = best->dots;
+    r.slot_led = best->slot_led;
+  }
+  return r;
+}
+
+TrackResult DotTracker::finish(TrackResult r) {
+  if (r.state == TrackState::tracking) {
+    cv_.observe(r.raw_pose, r.t);
+    last_solve_t_ = r.t;
+    switch (cfg_.filter) {
+      case FilterKind::none: r.pose = r.raw_pose; break;
+      case FilterKind::one_euro: r.pose = one_euro_.filter(r.raw_pose, r.t); break;
+      case FilterKind::median5: r.pose = median_.filter(r.raw_pose); break;
+    }
+  } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s && cfg_.method == SolverMethod::lm) {
+    if (auto p = cv_.predict(r.t)) {
+      r.state = TrackState::predicted;
+      r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
+    }
+  }
+  if (r.state == TrackState::lost) {
+    if (last_output_) r.pose = *last_output_;  // hold the last pose
+  }
+  if (!r.pose.finite()) {  // never pass a bad number on
+    r.state = TrackState::lost;
+    r.pose = last_output_.value_or(Pose{});
+  }
+  r.has_pose = r.state != TrackState::lost || last_output_.has_value();
+  if (r.state != TrackState::lost) last_output_ = r.pose;
+  return r;
+}
+
+}  // namespace earshot::tracker

@@ -1,0 +1,75 @@
+#include "earshot/tracker/filters.hpp"
+
+#include <algorithm>
+
+namespace earshot::tracker {
+
+PoseOneEuro::PoseOneEuro(OneEuroParams translation, OneEuroParams rotation)
+    : trans_(translation), rot_(rotation) {}
+
+void PoseOneEuro::reset() {
+  trans_.reset();
+  rot_.reset();
+  have_ = false;
+}
+
+Pose PoseOneEuro::filter(const Pose& p, double t) {
+  Pose out;
+  out.t = trans_.filter(p.t, t);
+  // Rotation: filter the rotation vector relative to a reference that moves
+  // with the output, so the filtered quantity stays small (no wrap at pi).
+  if (!have_) {
+    R_ref_ = p.R;
+    have_ = true;
+  }
+  const Vec3 w = log_so3(R_ref_.transpose() * p.R);
+  const Vec3 wf = rot_.filter(w, t);
+  out.R = R_ref_ * exp_so3(wf);
+  return out;
+}
+
+Pose MedianPoseFilter::filter(const Pose& p) {
+  ring_[static_cast<size_t>(head_)] = p;
+  head_ = (head_ + 1) % 5;
+  n_ = std::min(n_ + 1, 5);
+  std::array<double, 5> v{};
+  auto median = [&](auto get) {
+    for (int i = 0; i < n_; ++i) v[static_cast<size_t>(i)] = get(ring_[static_cast<size_t>(i)]);
+    std::sort(v.begin(), v.begin() + n_);
+    return (n_ % 2) ? v[static_cast<size_t>(n_ / 2)]
+                    : 0.5 * (v[static_cast<size_t>(n_ / 2 - 1)] + v[static_cast<size_t>(n_ / 2)]);
+  };
+  Pose out;
+  for (int a = 0; a < 3; ++a) out.t[a] = median([a](const Pose& q) { return q.t[a]; });
+  Vec3 w;
+  for (int a = 0; a < 3; ++a)
+    w[a] = median([&, a](const Pose& q) { return log_so3(p.R.transpose() * q.R)[a]; });
+  out.R = p.R * exp_so3(w);
+  return out;
+}
+
+void ConstantVelocity::observe(const Pose& p, double t) {
+  if (n_ > 0 && !(t > t1_)) {  // same time again: replace the newest
+    p1_ = p;
+    return;
+  }
+  p0_ = p1_;
+  t0_ = t1_;
+  p1_ = p;
+  t1_ = t;
+  n_ = std::min(n_ + 1, 2);
+}
+
+std::optional<Pose> ConstantVelocity::predict(double t) const {
+  if (n_ == 0) return std::nullopt;
+  if (n_ == 1) return p1_;
+  const double dt = t1_ - t0_;
+  if (!(dt > 0.0)) return p1_;
+  const double s = (t - t1_) / dt;
+  Pose out;
+  out.t = p1_.t + s * (p1_.t - p0_.t);
+  out.R = exp_so3(s * log_so3(p1_.R * p0_.R.transpose())) * p1_.R;
+  return out;
+}
+
+}  // namespace earshot::tracker

@@ -47,6 +47,7 @@ void DotTracker::reset() {
   median_.reset();
   cv_.reset();
   last_output_.reset();
+  last_raw_.reset();
   last_solve_t_ = -1e300;
 }
 
@@ -124,6 +125,19 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       one_euro_.reset();
       median_.reset();
     }
+  } else if (hyps_.empty() && visible == 3 && last_raw_ &&
+             frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
+    if (const auto l = labeller_.reacquire3(frame, *last_raw_)) {
+      if (const auto pose = solver.solve({l->dots.view(), &l->pose})) {
+        Hypothesis h;
+        h.pose = *pose;
+        h.cv.observe(*pose, frame.t);
+        h.frames = 1;
+        h.dots = 3;
+        h.slot_led = l->slot_led;
+        hyps_.push_back(h);
+      }
+    }
   }
 
   // Rival hypotheses compete on accumulated reprojection error; the loser
@@ -156,6 +170,7 @@ TrackResult DotTracker::finish(TrackResult r) {
   if (r.state == TrackState::tracking) {
     cv_.observe(r.raw_pose, r.t);
     last_solve_t_ = r.t;
+    last_raw_ = r.raw_pose;
     switch (cfg_.filter) {
       case FilterKind::none: r.pose = r.raw_pose; break;
       case FilterKind::one_euro: r.pose = one_euro_.filter(r.raw_pose, r.t); break;

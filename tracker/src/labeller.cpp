@@ -94,6 +94,58 @@ std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypot
   return found;
 }
 
+std::optional<Labelling> Labeller::reacquire3(const DotFrame& frame, const Pose& last,
+                                              double max_angle_rad, double max_shift_mm) const {
+  std::array<Seen, kSlots> dots{};
+  if (visible_dots(frame, dots) != 3) return std::nullopt;
+  std::array<Vec3, 3> bearings;
+  for (size_t i = 0; i < 3; ++i) bearings[i] = cam_.bearing(dots[i].px);
+  const double cos_half = std::cos(model_.half_angle);
+  // Distance to the last pose: radians plus translation at 100 mm per radian.
+  double best = std::numeric_limits<double>::infinity(), second = best;
+  std::optional<Labelling> out;
+  std::array<int, 4> perm{0, 1, 2, 3};  // perm[0..2]: LEDs of the dots, perm[3]: unseen
+  do {
+    const std::array<Vec3, 3> pts{model_.leds_mm[static_cast<size_t>(perm[0])],
+                                  model_.leds_mm[static_cast<size_t>(perm[1])],
+                                  model_.leds_mm[static_cast<size_t>(perm[2])]};
+    const P3PSolutions sols = p3p_lambda_twist(bearings, pts);
+    for (int k = 0; k < sols.count; ++k) {
+      const Pose& p = sols.poses[static_cast<size_t>(k)];
+      // The LED we do not see must be one the camera could not see.
+      const Vec3 P4 = p.apply(model_.leds_mm[static_cast<size_t>(perm[3])]);
+      const bool beam_ok = (p.R * model_.axis).dot(-P4.normalized()) >= cos_half;
+      if (P4.z() > 0.0 && beam_ok && cam_.inside(cam_.project(P4))) continue;
+      // The LEDs we see must face the camera.
+      bool facing = true;
+      for (size_t i = 0; i < 3; ++i) {
+        const Vec3 P = p.apply(pts[i]);
+        facing = facing && (p.R * model_.axis).dot(-P.normalized()) >= cos_half - 0.05;
+      }
+      if (!facing) continue;
+      const double ang = rotation_angle_between(p.R, last.R);
+      const double shift = (p.t - last.t).norm();
+      if (ang > max_angle_rad || shift > max_shift_mm) continue;
+      const double d = ang + shift / 100.0;
+      if (d < best) {
+        second = best;
+        best = d;
+        Labelling l;
+        for (size_t i = 0; i < 3; ++i) {
+          l.slot_led[static_cast<size_t>(dots[i].slot)] = perm[i];
+          l.dots.add(perm[i], dots[i].px);
+        }
+        l.pose = p;
+        out = l;
+      } else if (d < second) {
+        second = d;
+      }
+    }
+  } while (std::next_permutation(perm.begin(), perm.end()));
+  if (!out || second < 2.0 * best) return std::nullopt;  // not clearly one answer
+  return out;
+}
+
 std::optional<Labelling> Labeller::follow(const DotFrame& frame, const Pose& predicted) const {
   std::array<Seen, kSlots> dots{};
   const int n = visible_dots(frame, dots);

@@ -11,8 +11,14 @@ using Vec6 = Eigen::Matrix<double, 6, 1>;
 
 /// 0.5 * sum of squared residuals; infinity when a point falls behind the camera.
 double cost_of(const Pose& p, std::span<const Correspondence> dots, const Camera& cam,
-               const LedModel& model) {
+               const LedModel& model, const PosePrior* prior) {
   double c = 0.0;
+  if (prior) {
+    const double wr = prior->pixel_sigma / prior->rotation_sigma_rad;
+    const double wt = prior->pixel_sigma / prior->translation_sigma_mm;
+    c += (wr * log_so3(p.R * prior->pose.R.transpose())).squaredNorm();
+    c += (wt * (p.t - prior->pose.t)).squaredNorm();
+  }
   for (const auto& d : dots) {
     const Vec3 P = p.apply(model.leds_mm[static_cast<size_t>(d.led)]);
     if (P.z() <= 1e-6) return INFINITY;
@@ -37,10 +43,11 @@ Eigen::Matrix<double, 2, 6> reprojection_jacobian(const Pose& pose, const Vec3& 
 }
 
 LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dots,
-                        const Camera& cam, const LedModel& model, const LmOptions& opt) {
+                        const Camera& cam, const LedModel& model, const LmOptions& opt,
+                        const PosePrior* prior) {
   LmResult res;
   res.pose = initial;
-  res.cost = cost_of(initial, dots, cam, model);
+  res.cost = cost_of(initial, dots, cam, model, prior);
   if (dots.size() < 3 || !std::isfinite(res.cost)) return res;
 
   double lambda = opt.initial_lambda;
@@ -55,6 +62,14 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
       H.noalias() += J.transpose() * J;
       g.noalias() += J.transpose() * r;
     }
+    if (prior) {  // prior residuals; d log(exp(w) R Rp^T)/dw ~ I near the prior
+      const double wr = prior->pixel_sigma / prior->rotation_sigma_rad;
+      const double wt = prior->pixel_sigma / prior->translation_sigma_mm;
+      H.diagonal().head<3>().array() += wr * wr;
+      H.diagonal().tail<3>().array() += wt * wt;
+      g.head<3>() += wr * wr * log_so3(res.pose.R * prior->pose.R.transpose());
+      g.tail<3>() += wt * wt * (res.pose.t - prior->pose.t);
+    }
     bool improved = false;
     Vec6 delta = Vec6::Zero();
     while (lambda < 1e12) {
@@ -66,7 +81,7 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
         continue;
       }
       const Pose cand{exp_so3(delta.head<3>()) * res.pose.R, res.pose.t + delta.tail<3>()};
-      const double c = cost_of(cand, dots, cam, model);
+      const double c = cost_of(cand, dots, cam, model, prior);
       if (c <= res.cost) {
         const double old = res.cost;
         res.pose = cand;

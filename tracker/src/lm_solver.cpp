@@ -50,7 +50,11 @@ std::optional<Pose> LmSolver::solve(const SolveRequest& req) {
   if (!start && req.prior) start = *req.prior;
   if (!start) start = p3p_initial_pose(req.dots, cam_, model_, nullptr);
   if (!start) return std::nullopt;
-  const LmResult r = refine_pose_lm(*start, req.dots, cam_, model_, opt_);
+  // Three dots determine the pose only up to noise-amplifying directions:
+  // weigh in the prediction as a prior (a MAP estimate instead of ML).
+  std::optional<PosePrior> prior;
+  if (req.prior && req.dots.size() == 3) prior = PosePrior{*req.prior};
+  const LmResult r = refine_pose_lm(*start, req.dots, cam_, model_, opt_, prior ? &*prior : nullptr);
   if (!r.pose.finite() || !std::isfinite(r.cost) || r.pose.t.z() <= 0.0) return std::nullopt;
   return r.pose;
 }

@@ -62,12 +62,16 @@ TEST(LmSolver, RecoversExactPosesWithoutPriorOverFullRoll) {
   }
 }
 
-TEST(LmSolver, ThreeDotsWithPriorPicksThePoseNearIt) {
+TEST(LmSolver, ThreeDotsWithPriorLandsNearTheTruth) {
+  // Three dots fit a whole family of poses almost equally (and every P3P
+  // root exactly); the solver takes the P3P root nearest the prior and then
+  // weighs the prior in (MAP). The result must be nearer the truth than the
+  // prior was, and still fit the dots to a fraction of a pixel.
   std::mt19937_64 rng(13);
   const Camera cam;
   const LedModel model;
   LmSolver solver(cam, model);
-  int ambiguous = 0;
+  int far = 0;
   for (int i = 0; i < 1000; ++i) {
     const Pose truth = fixtures::random_visible_pose(rng, cam, model);
     auto all = fixtures::exact_dots(truth, cam, model);
@@ -77,12 +81,11 @@ TEST(LmSolver, ThreeDotsWithPriorPicksThePoseNearIt) {
     const Pose prior{exp_so3(Vec3(0.02, -0.01, 0.015)) * truth.R, truth.t + Vec3(5, -3, 8)};
     const auto p = solver.solve({three.view(), &prior});
     ASSERT_TRUE(p.has_value());
-    // Three dots fit every P3P solution exactly; a second solution can lie as
-    // close to the prior as the truth does. Count those rare cases.
-    if (rotation_angle_between(p->R, truth.R) > 1e-6 || (p->t - truth.t).norm() > 1e-4) ++ambiguous;
-    EXPECT_LT(rms_reprojection_error(*p, three.view(), cam, model), 1e-6);
+    EXPECT_LT(rms_reprojection_error(*p, three.view(), cam, model), 0.5) << "pose " << i;
+    const double prior_err = rotation_angle_between(prior.R, truth.R);
+    if (rotation_angle_between(p->R, truth.R) >= prior_err) ++far;
   }
-  EXPECT_LE(ambiguous, 10);  // measured: 5 of 1000
+  EXPECT_LE(far, 20);
 }
 
 TEST(LmSolver, ThreeDotsWithoutPriorIsRefused) {

@@ -31,6 +31,7 @@ struct TrackerConfig {
   LabellerOptions labeller{};
   double predict_timeout_s = 0.1;  ///< predicted state lasts at most this long
   int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
+  double reacquire3_window_s = 3.0;  ///< after a loss, re-acquire from 3 dots this long
 };
 
 struct TrackResult {
@@ -75,6 +76,7 @@ class DotTracker {
   MedianPoseFilter median_;
   ConstantVelocity cv_;
   std::optional<Pose> last_output_;
+  std::optional<Pose> last_raw_;
   double last_solve_t_ = -1e300;
 };
 

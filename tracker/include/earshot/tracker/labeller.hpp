@@ -41,6 +41,15 @@ class Labeller {
   /// best first (at most `max_hypotheses`). Empty when nothing fits.
   [[nodiscard]] std::vector<Labelling> acquire(const DotFrame& frame, size_t max_hypotheses = 4) const;
 
+  /// Re-acquires from exactly three dots after a loss, near the last known
+  /// pose: every ordered LED triple's P3P solutions are candidates; the
+  /// unseen LED must be hidden (outside the image or turned beyond its beam),
+  /// and the candidate nearest `last` must be within the limits and clearly
+  /// nearer than any rival. nullopt when that is not so.
+  [[nodiscard]] std::optional<Labelling> reacquire3(const DotFrame& frame, const Pose& last,
+                                                    double max_angle_rad = 1.2,
+                                                    double max_shift_mm = 400.0) const;
+
   /// Labels a frame near a predicted pose (3 or 4 dots). nullopt when fewer
   /// than three dots match within the gate.
   [[nodiscard]] std::optional<Labelling> follow(const DotFrame& frame, const Pose& predicted) const;

@@ -20,6 +20,17 @@ struct LmOptions {
   double cost_tolerance = 1e-12;     ///< relative cost decrease to stop
 };
 
+/// A Gaussian prior on the pose (e.g. the tracker's prediction), weighed
+/// against pixel residuals of standard deviation `pixel_sigma`. With three
+/// dots the reprojection alone fits every nearby pose equally; the prior
+/// keeps the weakly determined directions where the motion says they are.
+struct PosePrior {
+  Pose pose;
+  double rotation_sigma_rad = 0.02;
+  double translation_sigma_mm = 5.0;
+  double pixel_sigma = 0.3;
+};
+
 struct LmResult {
   Pose pose;
   double cost = 0.0;  ///< 0.5 * sum |r_i|^2, pixels^2
@@ -30,7 +41,7 @@ struct LmResult {
 /// Refines `initial` to the least-squares pose. Needs >= 3 correspondences.
 [[nodiscard]] LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dots,
                                       const Camera& cam, const LedModel& model,
-                                      const LmOptions& opt = {});
+                                      const LmOptions& opt = {}, const PosePrior* prior = nullptr);
 
 /// The 2x6 analytic Jacobian of one dot's residual with respect to (w, dt);
 /// exposed so tests can compare it with finite differences.

@@ -48,7 +48,7 @@ struct SolveOptions {
   std::string dots;
   std::string out;
   std::string method = "lm";
-  std::string filter = "none";
+  std::string filter = "auto";
   double gate_px = 4.0;
 };
 
@@ -133,8 +133,10 @@ TrackerConfig tracker_config(const std::string& method, const std::string& filte
   const auto m = solver_method_from(method);
   if (!m) throw InputError::at("--method", 0, "", "unknown method '" + method + "' (thesis, lm)");
   cfg.method = *m;
-  const auto f = filter_kind_from(filter);
-  if (!f) throw InputError::at("--filter", 0, "", "unknown filter '" + filter + "' (none, one-euro, median5)");
+  // auto: the One Euro filter for lm; the thesis method has its own median.
+  const std::string name = filter != "auto" ? filter : (cfg.method == SolverMethod::lm ? "one-euro" : "none");
+  const auto f = filter_kind_from(name);
+  if (!f) throw InputError::at("--filter", 0, "", "unknown filter '" + filter + "' (auto, none, one-euro, median5)");
   cfg.filter = *f;
   cfg.labeller.fit_gate_px = gate;
   return cfg;
@@ -185,7 +187,7 @@ void add_track_commands(CLI::App& track) {
   solve->add_option("--dots,-d", solve_opts->dots, "Dots CSV to read")->required();
   solve->add_option("--out,-o", solve_opts->out, "Poses CSV to write ('-' for stdout)");
   solve->add_option("--method", solve_opts->method, "Solver: lm (ours) or thesis (the 2009 reference)")->capture_default_str();
-  solve->add_option("--filter", solve_opts->filter, "Jitter filter: none, one-euro, median5")->capture_default_str();
+  solve->add_option("--filter", solve_opts->filter, "Jitter filter: auto (one-euro for lm, none for thesis), none, one-euro, median5")->capture_default_str();
   solve->add_option("--gate", solve_opts->gate_px, "Largest accepted RMS reprojection error, px")->capture_default_str()->check(CLI::PositiveNumber);
   solve_opts->cam.add_to(*solve);
   solve->callback([solve_opts] { run_solve(*solve_opts); });
@@ -200,7 +202,7 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--method", *method, "Solver: lm or thesis")->capture_default_str();
   demo->callback([opts, method] {
     Simulator sim(opts->cam.camera(), opts->cam.model(), opts->sim);
-    DotTracker tracker(opts->cam.camera(), opts->cam.model(), tracker_config(*method, "none", 4.0));
+    DotTracker tracker(opts->cam.camera(), opts->cam.model(), tracker_config(*method, "auto", 4.0));
     Summary sum;
     for (long i = 0; i < opts->frames; ++i) {
       const DotFrame f = sim.next();

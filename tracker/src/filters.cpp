@@ -25,6 +25,10 @@ Pose PoseOneEuro::filter(const Pose& p, double t) {
   const Vec3 w = log_so3(R_ref_.transpose() * p.R);
   const Vec3 wf = rot_.filter(w, t);
   out.R = R_ref_ * exp_so3(wf);
+  if (wf.norm() > 0.25) {  // re-anchor: the output becomes the new reference
+    R_ref_ = out.R;
+    rot_.shift(-wf);
+  }
   return out;
 }
 

@@ -31,6 +31,9 @@ class OneEuroFilter {
 
   Vec filter(const Vec& x, double t);
   void reset() { have_ = false; }
+  /// Moves the filtered value by `delta` (keeps the speed estimate): used
+  /// when the caller re-expresses the value in a new reference.
+  void shift(const Vec& delta) { x_prev_ += delta; }
 
  private:
   static double alpha(double cutoff, double dt);
@@ -42,12 +45,13 @@ class OneEuroFilter {
 };
 
 /// One Euro on a pose: translation (mm) and rotation (as the rotation vector
-/// of each new pose relative to the last filtered one, so no wrap-around).
+/// relative to a reference that is moved to the output whenever they drift
+/// apart, so the filtered vector stays small and never wraps at pi).
 class PoseOneEuro {
  public:
   /// Defaults tuned on simulated walks (tests/bench/tracker_accuracy).
-  explicit PoseOneEuro(OneEuroParams translation = {0.8, 0.02, 1.0},
-                       OneEuroParams rotation = {0.8, 0.4, 1.0});
+  explicit PoseOneEuro(OneEuroParams translation = {0.5, 0.1, 1.0},
+                       OneEuroParams rotation = {2.0, 20.0, 1.0});
   Pose filter(const Pose& p, double t);
   void reset();
 

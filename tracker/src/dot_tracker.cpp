@@ -94,6 +94,8 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     if (!pose) continue;
     const double rms = rms_reprojection_error(*pose, lab->dots.view(), cam_, model_);
     if (!(rms <= cfg_.labeller.fit_gate_px)) continue;
+    if (!leds_face_camera(*pose, model_, lab->dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
+      continue;  // a mirror pose that turned the LEDs away: impossible
     h.pose = *pose;
     h.cv.observe(*pose, frame.t);
     h.rms = rms;
@@ -108,6 +110,11 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   } else if (visible >= 4 || frame.t - last_solve_t_ > cfg_.predict_timeout_s) {
     hyps_.clear();  // lost the thread: acquire afresh from this frame
   }
+
+  // Four dots seen but every hypothesis explains only three (calling the
+  // fourth a stray): a labelling that explains all four wins if one exists.
+  const bool all_partial = std::none_of(hyps_.begin(), hyps_.end(), [](const Hypothesis& h) { return h.dots >= 4; });
+  if (!hyps_.empty() && visible >= 4 && all_partial && !labeller_.acquire(frame, 1).empty()) hyps_.clear();
 
   if (hyps_.empty() && visible >= 4) {
     for (const auto& l : labeller_.acquire(frame)) {

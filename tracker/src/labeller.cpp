@@ -29,6 +29,15 @@ double triangle_area(const Vec2& a, const Vec2& b, const Vec2& c) {
 
 }  // namespace
 
+bool leds_face_camera(const Pose& p, const LedModel& model, std::span<const Correspondence> dots,
+                      double max_angle) {
+  const Vec3 axis = p.R * model.axis;
+  const double c = std::cos(std::min(max_angle, 3.14159));
+  for (const auto& d : dots)
+    if (axis.dot(-p.apply(model.leds_mm[static_cast<size_t>(d.led)]).normalized()) < c) return false;
+  return true;
+}
+
 Labeller::Labeller(const Camera& cam, const LedModel& model, LabellerOptions opt)
     : cam_(cam), model_(model), opt_(opt) {}
 
@@ -79,6 +88,7 @@ std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypot
       l.pose = r.pose;
       l.rms_px = rms_reprojection_error(r.pose, l.dots.view(), cam_, model_);
       if (!(l.rms_px <= opt_.fit_gate_px) || !l.pose.finite()) continue;
+      if (!leds_face_camera(l.pose, model_, l.dots.view(), model_.half_angle + opt_.beam_margin_rad)) continue;
       // The same labelling and pose can be reached from several P3P roots.
       const bool dup = std::any_of(found.begin(), found.end(), [&](const Labelling& o) {
         return o.slot_led == l.slot_led && rotation_angle_between(o.pose.R, l.pose.R) < 0.01 &&

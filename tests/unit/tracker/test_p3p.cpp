@@ -30,7 +30,7 @@ std::vector<Eigen::Vector3d> reference_depths(const std::array<Vec3, 3>& y, cons
         if (l2 <= 0 || l3 <= 0) return std::nan("");
         return (l2 * y[1] - l3 * y[2]).squaredNorm() - a23;
       };
-      const int n = 200000;
+      const int n = 60000;
       double prev = NAN, prev_l = 0;
       for (int i = 1; i <= n; ++i) {
         const double l = lmax * i / n;

@@ -3,7 +3,9 @@
 // Acquisition tests hypotheses geometrically: three dots are given three LEDs
 // (every ordered choice), Lambda Twist P3P gives up to four poses each, and a
 // hypothesis must reproject the remaining LED onto the remaining dot. The
-// survivors are refined by LM on all dots and must fit within the pixel gate.
+// survivors are refined by LM on all dots and must fit within the pixel gate,
+// and every LED they claim to see must face the camera (within its beam):
+// that rules out the mirror pose that fits a small beacon almost as well.
 // While tracking, the predicted pose's projections are matched to the dots
 // (best of all assignments, gated), so slot swaps and re-appearing dots are
 // labelled too. A labelling that does not fit the model is rejected.
@@ -23,7 +25,15 @@ struct LabellerOptions {
   double fit_gate_px = 4.0;
   /// Largest distance (px) between a predicted LED projection and its dot.
   double match_gate_px = 40.0;
+  /// A seen LED must face the camera: a hypothesis that turns one further
+  /// than its beam half-angle plus this margin (radians) is impossible.
+  double beam_margin_rad = 0.26;
 };
+
+/// True when every listed LED shines toward the camera within `max_angle`
+/// (radians) of its axis: the camera cannot see an LED that faces away.
+[[nodiscard]] bool leds_face_camera(const Pose& p, const LedModel& model,
+                                    std::span<const Correspondence> dots, double max_angle);
 
 /// One labelling hypothesis with its refined pose.
 struct Labelling {

@@ -132,9 +132,25 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       one_euro_.reset();
       median_.reset();
     }
-  } else if (hyps_.empty() && visible == 3 && last_raw_ &&
-             frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
-    if (const auto l = labeller_.reacquire3(frame, *last_raw_)) {
+  }
+  if (hyps_.empty() && visible >= 3 && last_raw_ && frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
+    // Three LEDs, perhaps beside a stray: re-acquire near the last pose from
+    // the one set of three dots that gives a single clear answer.
+    std::optional<Labelling> found;
+    int answers = 0;
+    for (int drop = (visible == 3 ? -1 : 0); drop < (visible == 3 ? 0 : kSlots); ++drop) {
+      DotFrame three = frame;
+      if (drop >= 0) {
+        if (!three.slots[static_cast<size_t>(drop)]) continue;
+        three.slots[static_cast<size_t>(drop)].reset();
+      }
+      if (auto l = labeller_.reacquire3(three, *last_raw_)) {
+        found = l;
+        ++answers;
+      }
+    }
+    if (answers == 1) {
+      const auto& l = found;
       if (const auto pose = solver.solve({l->dots.view(), &l->pose})) {
         Hypothesis h;
         h.pose = *pose;

@@ -10,12 +10,8 @@
 namespace earshot::tracker {
 namespace {
 
-struct Seen {
-  int slot;
-  Vec2 px;
-};
 
-int visible_dots(const DotFrame& f, std::array<Seen, kSlots>& out) {
+int visible_dots(const DotFrame& f, std::array<DotAt, kSlots>& out) {
   int n = 0;
   for (int s = 0; s < kSlots; ++s)
     if (const auto& d = f.slots[static_cast<size_t>(s)]) out[static_cast<size_t>(n++)] = {s, *d};
@@ -41,28 +37,8 @@ bool leds_face_camera(const Pose& p, const LedModel& model, std::span<const Corr
 Labeller::Labeller(const Camera& cam, const LedModel& model, LabellerOptions opt)
     : cam_(cam), model_(model), opt_(opt) {}
 
-std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypotheses) const {
-  std::vector<Labelling> found;
-  std::array<Seen, kSlots> dots{};
-  if (visible_dots(frame, dots) < 4) return found;
-
-  // Solve P3P on the best-conditioned triple of dots (largest image triangle);
-  // the fourth dot then checks each hypothesis.
-  std::array<int, 4> order{0, 1, 2, 3};
-  double best_area = -1.0;
-  for (int skip = 0; skip < 4; ++skip) {
-    std::array<int, 4> o{};
-    int k = 0;
-    for (int i = 0; i < 4; ++i)
-      if (i != skip) o[static_cast<size_t>(k++)] = i;
-    o[3] = skip;
-    const double a = triangle_area(dots[static_cast<size_t>(o[0])].px, dots[static_cast<size_t>(o[1])].px,
-                                   dots[static_cast<size_t>(o[2])].px);
-    if (a > best_area) {
-      best_area = a;
-      order = o;
-    }
-  }
+void Labeller::try_triple(const std::array<int, 4>& order, const std::array<DotAt, kSlots>& dots,
+                          std::vector<Labelling>& found) const {
   std::array<Vec3, 3> bearings;
   for (size_t i = 0; i < 3; ++i) bearings[i] = cam_.bearing(dots[static_cast<size_t>(order[i])].px);
 
@@ -80,7 +56,7 @@ std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypot
       if ((cam_.project(P4) - dots[static_cast<size_t>(order[3])].px).norm() > 4.0 * opt_.match_gate_px) continue;
       Labelling l;
       for (size_t i = 0; i < 4; ++i) {
-        const Seen& d = dots[static_cast<size_t>(order[i])];
+        const DotAt& d = dots[static_cast<size_t>(order[i])];
         l.slot_led[static_cast<size_t>(d.slot)] = perm[i];
         l.dots.add(perm[i], d.px);
       }
@@ -98,6 +74,36 @@ std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypot
     }
   } while (std::next_permutation(perm.begin(), perm.end()));
 
+}
+
+std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypotheses) const {
+  std::vector<Labelling> found;
+  std::array<DotAt, kSlots> dots{};
+  if (visible_dots(frame, dots) < 4) return found;
+
+  // Solve P3P on triples of dots, best-conditioned (largest image triangle)
+  // first; the fourth dot checks each hypothesis. A symmetric triple seen
+  // head-on puts P3P on a double root that rounding can lose, so when one
+  // triple explains nothing the next is tried.
+  std::array<std::array<int, 4>, 4> orders{};
+  std::array<double, 4> areas{};
+  for (int skip = 0; skip < 4; ++skip) {
+    std::array<int, 4> o{};
+    int k = 0;
+    for (int i = 0; i < 4; ++i)
+      if (i != skip) o[static_cast<size_t>(k++)] = i;
+    o[3] = skip;
+    orders[static_cast<size_t>(skip)] = o;
+    areas[static_cast<size_t>(skip)] = triangle_area(dots[static_cast<size_t>(o[0])].px,
+                                                     dots[static_cast<size_t>(o[1])].px,
+                                                     dots[static_cast<size_t>(o[2])].px);
+  }
+  std::array<int, 4> rank{0, 1, 2, 3};
+  std::sort(rank.begin(), rank.end(), [&](int a, int b) { return areas[static_cast<size_t>(a)] > areas[static_cast<size_t>(b)]; });
+  for (int r = 0; r < 4 && found.empty(); ++r) {
+    const std::array<int, 4>& order = orders[static_cast<size_t>(rank[static_cast<size_t>(r)])];
+    try_triple(order, dots, found);
+  }
   std::sort(found.begin(), found.end(),
             [](const Labelling& a, const Labelling& b) { return a.rms_px < b.rms_px; });
   if (found.size() > max_hypotheses) found.resize(max_hypotheses);
@@ -106,7 +112,7 @@ std::vector<Labelling> Labeller::acquire(const DotFrame& frame, size_t max_hypot
 
 std::optional<Labelling> Labeller::reacquire3(const DotFrame& frame, const Pose& last,
                                               double max_angle_rad, double max_shift_mm) const {
-  std::array<Seen, kSlots> dots{};
+  std::array<DotAt, kSlots> dots{};
   if (visible_dots(frame, dots) != 3) return std::nullopt;
   std::array<Vec3, 3> bearings;
   for (size_t i = 0; i < 3; ++i) bearings[i] = cam_.bearing(dots[i].px);
@@ -157,7 +163,7 @@ std::optional<Labelling> Labeller::reacquire3(const DotFrame& frame, const Pose&
 }
 
 std::optional<Labelling> Labeller::follow(const DotFrame& frame, const Pose& predicted) const {
-  std::array<Seen, kSlots> dots{};
+  std::array<DotAt, kSlots> dots{};
   const int n = visible_dots(frame, dots);
   if (n < 3) return std::nullopt;
   std::array<Vec2, 4> proj;

@@ -43,6 +43,12 @@ struct Labelling {
   double rms_px = 0.0;
 };
 
+/// A dot seen in a camera slot.
+struct DotAt {
+  int slot = 0;
+  Vec2 px;
+};
+
 class Labeller {
  public:
   Labeller(const Camera& cam, const LedModel& model, LabellerOptions opt = {});
@@ -67,6 +73,10 @@ class Labeller {
   [[nodiscard]] const LabellerOptions& options() const { return opt_; }
 
  private:
+  /// Hypotheses from P3P on dots order[0..2], checked against dot order[3].
+  void try_triple(const std::array<int, 4>& order, const std::array<DotAt, kSlots>& dots,
+                  std::vector<Labelling>& found) const;
+
   Camera cam_;
   LedModel model_;
   LabellerOptions opt_;

@@ -1,0 +1,113 @@
+// tracker_bench: per-frame cost of label + solve + filter, beside OpenCV's
+// solvePnP on the same frames (given the true labels, so it does less work).
+//   tracker_bench [--benchmark_min_time=0.5]
+#include <benchmark/benchmark.h>
+
+#include <vector>
+
+#include "earshot/tracker/dot_tracker.hpp"
+#include "earshot/tracker/labeller.hpp"
+#include "earshot/tracker/p3p.hpp"
+#include "earshot/tracker/simulator.hpp"
+#include "opencv_pnp.hpp"
+
+using namespace earshot::tracker;
+using earshot::bench::CvMethod;
+using earshot::bench::OpenCvPnp;
+
+namespace {
+
+const Camera kCam = Camera::with_focal(1280);
+const LedModel kModel;
+
+/// A 10,000-frame integer-pixel walk (seed 1), simulated once.
+const std::vector<DotFrame>& walk() {
+  static const std::vector<DotFrame> frames = [] {
+    Simulator sim(kCam, kModel, {});
+    std::vector<DotFrame> v;
+    for (int i = 0; i < 10000; ++i) v.push_back(sim.next());
+    return v;
+  }();
+  return frames;
+}
+
+/// The frames with all four LEDs seen, with their true labels.
+const std::vector<LabelledDots>& four_dot_frames() {
+  static const std::vector<LabelledDots> frames = [] {
+    std::vector<LabelledDots> v;
+    for (const auto& f : walk()) {
+      LabelledDots d;
+      for (size_t s = 0; s < kSlots; ++s)
+        if (f.truth->slot_led[s] > 0) d.add(f.truth->slot_led[s] - 1, *f.slots[s]);
+      if (d.count == 4) v.push_back(d);
+    }
+    return v;
+  }();
+  return frames;
+}
+
+void run_tracker(benchmark::State& state, TrackerConfig cfg) {
+  const auto& frames = walk();
+  DotTracker tracker(kCam, kModel, cfg);
+  size_t i = 0;
+  for (auto _ : state) {
+    if (i == frames.size()) {
+      i = 0;
+      tracker.reset();
+    }
+    benchmark::DoNotOptimize(tracker.process(frames[i++]));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+
+void BM_lm(benchmark::State& state) {
+  TrackerConfig cfg;
+  cfg.filter = FilterKind::one_euro;
+  run_tracker(state, cfg);
+}
+void BM_lm_no_filter(benchmark::State& state) { run_tracker(state, {}); }
+void BM_thesis(benchmark::State& state) {
+  TrackerConfig cfg;
+  cfg.method = SolverMethod::thesis;
+  run_tracker(state, cfg);
+}
+
+void run_cv(benchmark::State& state, CvMethod m) {
+  const auto& frames = four_dot_frames();
+  OpenCvPnp pnp(kCam, kModel, m);
+  size_t i = 0;
+  for (auto _ : state) {
+    if (i == frames.size()) i = 0;
+    benchmark::DoNotOptimize(pnp.solve(frames[i++].view()));
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+void BM_cv_iterative(benchmark::State& state) { run_cv(state, CvMethod::iterative); }
+void BM_cv_sqpnp_refine(benchmark::State& state) { run_cv(state, CvMethod::sqpnp_refine); }
+
+void BM_lm_acquire(benchmark::State& state) {
+  const Labeller labeller(kCam, kModel);
+  const DotFrame& f = walk().front();
+  for (auto _ : state) benchmark::DoNotOptimize(labeller.acquire(f));
+}
+
+void BM_p3p(benchmark::State& state) {
+  const Pose p{rotation_from_ypr(0.3, -0.2, 1.0), Vec3(30, -20, 1100)};
+  std::array<Vec3, 3> y, x;
+  for (size_t k = 0; k < 3; ++k) {
+    x[k] = kModel.leds_mm[k];
+    y[k] = p.apply(x[k]).normalized();
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(p3p_lambda_twist(y, x));
+}
+
+}  // namespace
+
+BENCHMARK(BM_lm);
+BENCHMARK(BM_lm_no_filter);
+BENCHMARK(BM_thesis);
+BENCHMARK(BM_cv_iterative);
+BENCHMARK(BM_cv_sqpnp_refine);
+BENCHMARK(BM_lm_acquire);
+BENCHMARK(BM_p3p);
+BENCHMARK_MAIN();

@@ -21,3 +21,10 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build build/asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -L unit
+
+echo "== fuzz smoke (libFuzzer + ASan/UBSan, ${EARSHOT_FUZZ_SECONDS:-20} s per target)"
+CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DEARSHOT_BUILD_FUZZ=ON -DEARSHOT_BUILD_TESTS=OFF -DEARSHOT_BUILD_BENCH=OFF \
+  -DEARSHOT_SANITIZE=address,undefined -DEARSHOT_FUZZ_SECONDS="${EARSHOT_FUZZ_SECONDS:-20}" >/dev/null
+cmake --build build/fuzz -j "$jobs"
+ctest --test-dir build/fuzz -L fuzz --output-on-failure

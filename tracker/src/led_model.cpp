@@ -31,7 +31,7 @@ LedModel parse_led_model(std::string_view json_text, std::string_view origin) {
   json j;
   try {
     j = json::parse(json_text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // parse_error, or out_of_range for a number overflow
     throw InputError::at(origin, 0, "", std::string("not valid JSON: ") + e.what());
   }
   if (!j.is_object()) throw InputError::at(origin, 0, "", "expected a JSON object");

@@ -110,4 +110,8 @@ TEST(LedModelJson, ParsesAndRejectsWithFieldNames) {
   EXPECT_EQ(err(R"({"leds_mm": [[0,0,0],[1,0,0],[2,0,0],[0,0,2]]})"),
             "m.json: field 'leds_mm': the first three LEDs are collinear");
   EXPECT_NE(err("{"), "");
+  // Found by fuzz_led_model: a number too large for a double used to escape
+  // as nlohmann's out_of_range instead of an InputError.
+  EXPECT_NE(err(R"({"leds_mm": [[3E2222222222.5,135,3],[-6,16,6],[6,-66,3],[-5,-16.5,4]]})").find("m.json: not valid JSON"),
+            std::string::npos);
 }

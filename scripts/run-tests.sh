@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The test command: installs what is missing, builds Release and runs the
-# quick tests, then rebuilds the unit tests under ASan+UBSan and runs them.
+# quick tests, then the unit tests under ASan+UBSan, the threaded tests under
+# TSan, and each libFuzzer target for a short while.
 #   scripts/run-tests.sh            quick suites (what CI runs)
 #   EARSHOT_SLOW=1 scripts/run-tests.sh   also the slow label
 set -euo pipefail
@@ -21,6 +22,12 @@ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 cmake --build build/asan -j "$jobs"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -L unit
+
+echo "== TSan build (threaded tests, label threads)"
+cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
+cmake --build build/tsan -j "$jobs" --target common_tests
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -L threads
 
 echo "== fuzz smoke (libFuzzer + ASan/UBSan, ${EARSHOT_FUZZ_SECONDS:-20} s per target)"
 CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \

@@ -1,0 +1,99 @@
+// A set of head-related impulse responses loaded from a SOFA file, ready for
+// rendering: resampled to the render rate, each HRIR split into an onset
+// delay per ear (the ITD lives there) and an onset-free filter, and any
+// direction interpolated from the measured ones.
+//
+// Onset split: an ear's onset is the first sample reaching -20 dB of that
+// HRIR's peak; the filter starts two samples earlier (to keep the
+// pre-ringing) and the delay is that integer shift. Rendering filter(ear)
+// delayed by delay(ear) therefore reproduces the measured HRIR sample for
+// sample (only trailing zeros differ), so measured ITD and ILD are kept
+// exactly. The shift common to all measurements (the measurement rig's
+// flight time) is removed from every delay: it is latency, not a cue.
+//
+// Interpolation: the measured directions are triangulated on the sphere
+// (sphere_triangulation.hpp); a direction takes barycentric weights of its
+// triangle, applied to the onset-free filters and, separately, to the
+// delays, so interpolation never sums two copies at different delays
+// (no comb filtering). Directions below the lowest measured ring blend that
+// ring's measurements.
+//
+// Conventions: SOFA's. Azimuth counter-clockwise from the front (pi/2 =
+// left), elevation up, radians. Delays in seconds.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "earshot/hrtf/sphere_triangulation.hpp"
+
+namespace earshot::hrtf {
+
+struct Delays {
+  double left_s = 0.0;
+  double right_s = 0.0;
+};
+
+struct Direction {
+  double azimuth = 0.0;    ///< radians, counter-clockwise from the front
+  double elevation = 0.0;  ///< radians, up
+};
+
+enum class Ear { left = 0, right = 1 };
+
+/// Head radii of the thesis's listener sizes.
+enum class HeadSize { small, medium, large };
+[[nodiscard]] double head_radius_m(HeadSize s);
+
+/// Woodworth's spherical-head ITD (seconds, left ear minus right ear
+/// arrival: positive when the left ear hears first, i.e. source on the left).
+[[nodiscard]] double woodworth_itd(double azimuth, double elevation, double head_radius_m,
+                                   double speed_of_sound = 343.0);
+
+class HrtfSet {
+ public:
+  /// The MIT KEMAR set installed by Debian's libmysofa1.
+  static constexpr const char* kDefaultPath = "/usr/share/libmysofa/MIT_KEMAR_normal_pinna.sofa";
+
+  /// Loads a SOFA file of the SimpleFreeFieldHRIR convention and resamples
+  /// it to `sample_rate` (8-192 kHz). Throws earshot::InputError naming the
+  /// file and the problem (missing, not SOFA, truncated, other convention,
+  /// not two ears, unsupported rate).
+  [[nodiscard]] static HrtfSet load(const std::filesystem::path& sofa, double sample_rate);
+  [[nodiscard]] static HrtfSet load_default(double sample_rate) { return load(kDefaultPath, sample_rate); }
+
+  [[nodiscard]] double sample_rate() const { return rate_; }
+  [[nodiscard]] std::size_t filter_length() const { return length_; }
+  [[nodiscard]] std::size_t measurement_count() const { return dirs_.size(); }
+  [[nodiscard]] Direction direction(std::size_t i) const { return dirs_[i]; }
+  /// The measured onset-free filter of measurement i.
+  [[nodiscard]] std::span<const float> filter(std::size_t i, Ear ear) const;
+  [[nodiscard]] Delays delays(std::size_t i) const { return delays_[i]; }
+  /// The original (resampled) HRIR of measurement i, before the onset split.
+  [[nodiscard]] std::span<const float> measured_hrir(std::size_t i, Ear ear) const;
+
+  /// Filters and delays for any direction; `left` and `right` must hold
+  /// filter_length() samples. Does not allocate.
+  Delays lookup(double azimuth, double elevation, std::span<float> left, std::span<float> right) const;
+
+  /// With a head radius, lookup returns Woodworth delays (both ears around
+  /// a common centre) instead of the measured ones; nullopt restores them.
+  void set_parametric_itd(std::optional<double> head_radius_m) { parametric_radius_ = head_radius_m; }
+
+ private:
+  HrtfSet() = default;
+
+  double rate_ = 0.0;
+  std::size_t length_ = 0;
+  std::vector<Direction> dirs_;
+  std::vector<float> filters_;  // [measurement][ear][sample]
+  std::vector<float> hrirs_;    // [measurement][ear][sample], as measured
+  std::vector<Delays> delays_;
+  std::shared_ptr<const SphereTriangulation> triangulation_;
+  std::optional<double> parametric_radius_;
+};
+
+}  // namespace earshot::hrtf

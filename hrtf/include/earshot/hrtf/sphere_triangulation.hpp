@@ -1,0 +1,47 @@
+// Triangulation of measured directions on the unit sphere, and barycentric
+// lookup of any direction in it: the convex hull of the direction vectors.
+// Directions that no measurement surrounds (a missing bottom cap) fall in a
+// hull face that spans the gap, so they blend the nearest ring's measurements.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace earshot::hrtf {
+
+using Dir = std::array<double, 3>;  ///< unit vector
+
+/// Three measurement indices and their weights (non-negative, sum 1).
+struct Blend {
+  std::array<std::uint32_t, 3> index{};
+  std::array<double, 3> weight{};
+};
+
+class SphereTriangulation {
+ public:
+  /// Builds the hull of `dirs` (unit vectors, at least 4, not all in one
+  /// plane through the origin). Throws std::invalid_argument otherwise.
+  explicit SphereTriangulation(std::span<const Dir> dirs);
+
+  /// Weights of the triangle the ray through `d` crosses. No allocation.
+  [[nodiscard]] Blend locate(const Dir& d) const;
+
+  [[nodiscard]] std::size_t triangle_count() const { return tris_.size(); }
+
+ private:
+  struct Triangle {
+    std::array<std::uint32_t, 3> v;
+    std::array<double, 9> inv;  // inverse of [a b c] (columns), row-major
+  };
+  [[nodiscard]] bool weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const;
+  [[nodiscard]] std::size_t cell_of(const Dir& d) const;
+
+  std::vector<Triangle> tris_;
+  // Acceleration grid over azimuth x elevation: candidate triangles per cell.
+  static constexpr int kAz = 60, kEl = 30;
+  std::vector<std::uint32_t> cell_start_, cell_tris_;
+};
+
+}  // namespace earshot::hrtf

@@ -1,0 +1,202 @@
+#include "earshot/hrtf/hrtf_set.hpp"
+
+#include <mysofa.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "earshot/errors.hpp"
+
+namespace earshot::hrtf {
+namespace {
+
+struct MysofaFree {
+  void operator()(MYSOFA_HRTF* h) const { mysofa_free(h); }
+};
+using SofaPtr = std::unique_ptr<MYSOFA_HRTF, MysofaFree>;
+
+std::string mysofa_error_text(int err) {
+  switch (err) {
+    case MYSOFA_INVALID_FORMAT: return "not a valid SOFA file (invalid or truncated HDF5 structure)";
+    case MYSOFA_UNSUPPORTED_FORMAT: return "unsupported SOFA format";
+    case MYSOFA_NO_MEMORY: return "out of memory while reading";
+    case MYSOFA_READ_ERROR: return "read error (file truncated?)";
+    case MYSOFA_INVALID_ATTRIBUTES: return "not of the SimpleFreeFieldHRIR convention (invalid attributes)";
+    case MYSOFA_INVALID_DIMENSIONS: return "invalid dimensions for SimpleFreeFieldHRIR";
+    case MYSOFA_INVALID_DIMENSION_LIST: return "invalid dimension list";
+    case MYSOFA_INVALID_COORDINATE_TYPE: return "invalid coordinate type";
+    case MYSOFA_ONLY_EMITTER_WITH_ECI_SUPPORTED: return "only emitters with ECI dimensions are supported";
+    case MYSOFA_ONLY_DELAYS_WITH_IR_OR_MR_SUPPORTED: return "Data.Delay must have dimensions IR or MR";
+    case MYSOFA_ONLY_THE_SAME_SAMPLING_RATE_SUPPORTED: return "all measurements must share one sampling rate";
+    case MYSOFA_RECEIVERS_WITH_RCI_SUPPORTED: return "receivers must have RCI dimensions";
+    case MYSOFA_RECEIVERS_WITH_CARTESIAN_SUPPORTED: return "receiver positions must be cartesian";
+    case MYSOFA_INVALID_RECEIVER_POSITIONS: return "invalid receiver (ear) positions";
+    case MYSOFA_ONLY_SOURCES_WITH_MC_SUPPORTED: return "source positions must have MC dimensions";
+    default: return "libmysofa error " + std::to_string(err);
+  }
+}
+
+[[noreturn]] void bad(const std::filesystem::path& p, const std::string& what) {
+  throw InputError::at(p.string(), 0, "", what);
+}
+
+/// First sample reaching -20 dB of the peak.
+std::size_t onset_of(std::span<const float> h) {
+  float peak = 0.0f;
+  for (float v : h) peak = std::max(peak, std::abs(v));
+  if (peak <= 0.0f) return 0;
+  for (std::size_t i = 0; i < h.size(); ++i)
+    if (std::abs(h[i]) >= 0.1f * peak) return i;
+  return 0;
+}
+
+}  // namespace
+
+double head_radius_m(HeadSize s) {
+  switch (s) {
+    case HeadSize::small: return 0.075;
+    case HeadSize::medium: return 0.0875;
+    case HeadSize::large: return 0.10;
+  }
+  return 0.0875;
+}
+
+double woodworth_itd(double azimuth, double elevation, double r, double c) {
+  // Lateral angle: the angle between the source and the median plane.
+  const double lateral = std::asin(std::clamp(std::sin(azimuth) * std::cos(elevation), -1.0, 1.0));
+  return r / c * (lateral + std::sin(lateral));
+}
+
+std::span<const float> HrtfSet::filter(std::size_t i, Ear ear) const {
+  return {filters_.data() + (2 * i + static_cast<std::size_t>(ear)) * length_, length_};
+}
+
+std::span<const float> HrtfSet::measured_hrir(std::size_t i, Ear ear) const {
+  return {hrirs_.data() + (2 * i + static_cast<std::size_t>(ear)) * length_, length_};
+}
+
+HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) bad(path, "file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) bad(path, "not a regular file");
+  if (std::filesystem::file_size(path, ec) == 0) bad(path, "empty file");
+  if (!(sample_rate >= 8000.0 && sample_rate <= 192000.0))
+    bad(path, "unsupported render rate " + std::to_string(sample_rate) + " Hz (8000-192000)");
+  {
+    // SOFA is HDF5: check the signature before handing the file to libmysofa.
+    std::ifstream in(path, std::ios::binary);
+    std::array<char, 8> sig{};
+    in.read(sig.data(), sig.size());
+    static constexpr std::array<char, 8> kHdf5{'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+    if (!in || sig != kHdf5) bad(path, "not a SOFA file (no HDF5 signature)");
+  }
+  int err = 0;
+  SofaPtr sofa(mysofa_load(path.c_str(), &err));
+  if (!sofa || err != MYSOFA_OK) bad(path, mysofa_error_text(err));
+  MYSOFA_HRTF* h = sofa.get();
+  char conv_name[] = "SOFAConventions";
+  const char* conv = mysofa_getAttribute(h->attributes, conv_name);
+  if (!conv || std::strcmp(conv, "SimpleFreeFieldHRIR") != 0)
+    bad(path, std::string("SOFA convention is '") + (conv ? conv : "(none)") +
+                  "', expected 'SimpleFreeFieldHRIR'");
+  if ((err = mysofa_check(h)) != MYSOFA_OK) bad(path, mysofa_error_text(err));
+  if (h->R != 2) bad(path, "expected 2 receivers (ears), found " + std::to_string(h->R));
+  if (h->M < 4 || h->N == 0) bad(path, "too few measurements or empty impulse responses");
+  if (h->DataSamplingRate.elements < 1) bad(path, "no Data.SamplingRate");
+  const double file_rate = h->DataSamplingRate.values[0];
+  if (!(file_rate >= 8000.0 && file_rate <= 192000.0))
+    bad(path, "unsupported sampling rate " + std::to_string(file_rate) + " Hz in the file");
+  if (std::abs(file_rate - sample_rate) > 0.5) {
+    if ((err = mysofa_resample(h, static_cast<float>(sample_rate))) != MYSOFA_OK) bad(path, mysofa_error_text(err));
+  }
+  mysofa_tocartesian(h);
+
+  HrtfSet set;
+  set.rate_ = sample_rate;
+  set.length_ = h->N;
+  const std::size_t M = h->M, N = h->N;
+  set.hrirs_.assign(h->DataIR.values, h->DataIR.values + 2 * M * N);
+  for (float v : set.hrirs_)
+    if (!std::isfinite(v)) bad(path, "impulse responses hold non-finite samples");
+  set.filters_.assign(2 * M * N, 0.0f);
+  set.dirs_.resize(M);
+  set.delays_.resize(M);
+  std::vector<Dir> unit(M);
+  for (std::size_t m = 0; m < M; ++m) {
+    const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
+    const double x = p[0], y = p[1], z = p[2];
+    const double r = std::sqrt(x * x + y * y + z * z);
+    if (!(r > 0.0) || !std::isfinite(r)) bad(path, "source position " + std::to_string(m) + " is not a direction");
+    unit[m] = {x / r, y / r, z / r};
+    set.dirs_[m] = {std::atan2(y, x), std::asin(z / r)};
+  }
+  // Data.Delay (samples at the file's rate) adds to each ear: 1 x R or M x R.
+  auto file_delay = [&](std::size_t m, std::size_t ear) -> double {
+    const auto& d = h->DataDelay;
+    if (d.elements == 2) return d.values[ear] * sample_rate / file_rate;
+    if (d.elements == 2 * M) return d.values[2 * m + ear] * sample_rate / file_rate;
+    return 0.0;
+  };
+  // Each ear's filter is its HRIR from two samples before its onset on;
+  // the delay is that integer shift, so filter + delay = the measured HRIR.
+  constexpr std::size_t kMargin = 2;
+  double min_delay = std::numeric_limits<double>::infinity();
+  std::vector<std::array<double, 2>> raw(M);
+  for (std::size_t m = 0; m < M; ++m)
+    for (std::size_t ear = 0; ear < 2; ++ear) {
+      const std::span<const float> hrir(set.hrirs_.data() + (2 * m + ear) * N, N);
+      const std::size_t onset = onset_of(hrir);
+      const std::size_t shift = onset > kMargin ? onset - kMargin : 0;
+      float* f = set.filters_.data() + (2 * m + ear) * N;
+      std::copy(hrir.begin() + static_cast<std::ptrdiff_t>(shift), hrir.end(), f);
+      raw[m][ear] = static_cast<double>(shift) + file_delay(m, ear);
+      min_delay = std::min(min_delay, raw[m][ear]);
+    }
+  for (std::size_t m = 0; m < M; ++m)
+    set.delays_[m] = {(raw[m][0] - min_delay) / sample_rate, (raw[m][1] - min_delay) / sample_rate};
+  try {
+    set.triangulation_ = std::make_shared<const SphereTriangulation>(unit);
+  } catch (const std::invalid_argument& e) {
+    bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
+  }
+  return set;
+}
+
+Delays HrtfSet::lookup(double azimuth, double elevation, std::span<float> left, std::span<float> right) const {
+  const Dir d{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+  const Blend b = triangulation_->locate(d);
+  std::fill(left.begin(), left.end(), 0.0f);
+  std::fill(right.begin(), right.end(), 0.0f);
+  Delays out;
+  const std::size_t n = std::min({length_, left.size(), right.size()});
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto w = static_cast<float>(b.weight[k]);
+    if (w == 0.0f) continue;
+    const std::size_t m = b.index[k];
+    const float* fl = filters_.data() + (2 * m) * length_;
+    const float* fr = fl + length_;
+    for (std::size_t i = 0; i < n; ++i) {
+      left[i] += w * fl[i];
+      right[i] += w * fr[i];
+    }
+    out.left_s += b.weight[k] * delays_[m].left_s;
+    out.right_s += b.weight[k] * delays_[m].right_s;
+  }
+  if (parametric_radius_) {
+    const double mid = 0.5 * (out.left_s + out.right_s);
+    const double itd = woodworth_itd(azimuth, elevation, *parametric_radius_);
+    out = {mid - 0.5 * itd, mid + 0.5 * itd};
+    // Keep both delays non-negative (a constant shift is latency, not a cue).
+    const double lo = std::min(out.left_s, out.right_s);
+    if (lo < 0.0) out = {out.left_s - lo, out.right_s - lo};
+  }
+  return out;
+}
+
+}  // namespace earshot::hrtf

@@ -1,0 +1,184 @@
+#include "earshot/hrtf/sphere_triangulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+#include <utility>
+
+namespace earshot::hrtf {
+namespace {
+
+using V = std::array<double, 3>;
+V sub(const V& a, const V& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+V cross(const V& a, const V& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const V& a, const V& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+
+struct Face {
+  std::array<std::uint32_t, 3> v;
+  V n;       // outward normal
+  double d;  // plane offset: dot(n, x) = d on the face
+  bool alive = true;
+};
+
+Face make_face(const std::vector<V>& p, std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+  Face f{{a, b, c}, cross(sub(p[b], p[a]), sub(p[c], p[a])), 0.0};
+  const double len = std::sqrt(dot(f.n, f.n));
+  for (auto& x : f.n) x /= len;
+  f.d = dot(f.n, p[a]);
+  return f;
+}
+
+/// Incremental convex hull. The points are jittered by a tiny amount first
+/// so that coplanar measurement rings are in general position; every input
+/// point on the sphere is then a hull vertex.
+std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs) {
+  const std::size_t n = dirs.size();
+  std::vector<V> p(n);
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(-1e-7, 1e-7);
+  for (std::size_t i = 0; i < n; ++i) p[i] = {dirs[i][0] + u(rng), dirs[i][1] + u(rng), dirs[i][2] + u(rng)};
+
+  // Initial tetrahedron from four points far from coplanar.
+  std::uint32_t i0 = 0, i1 = 1;
+  double best = 0;
+  for (std::uint32_t i = 1; i < n; ++i)
+    if (double d = dot(sub(p[i], p[0]), sub(p[i], p[0])); d > best) best = d, i1 = i;
+  std::uint32_t i2 = 0;
+  best = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const V c = cross(sub(p[i1], p[i0]), sub(p[i], p[i0]));
+    if (double d = dot(c, c); d > best) best = d, i2 = i;
+  }
+  const V n012 = cross(sub(p[i1], p[i0]), sub(p[i2], p[i0]));
+  std::uint32_t i3 = 0;
+  best = 0;
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (double d = std::abs(dot(n012, sub(p[i], p[i0]))); d > best) best = d, i3 = i;
+  if (best < 1e-9) throw std::invalid_argument("measured directions lie in one plane");
+
+  std::vector<Face> faces;
+  auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const V& inside) {
+    Face f = make_face(p, a, b, c);
+    if (dot(f.n, inside) > f.d) {  // orient outward
+      std::swap(f.v[1], f.v[2]);
+      f = make_face(p, f.v[0], f.v[1], f.v[2]);
+    }
+    faces.push_back(f);
+  };
+  const V centre{(p[i0][0] + p[i1][0] + p[i2][0] + p[i3][0]) / 4, (p[i0][1] + p[i1][1] + p[i2][1] + p[i3][1]) / 4,
+                 (p[i0][2] + p[i1][2] + p[i2][2] + p[i3][2]) / 4};
+  add(i0, i1, i2, centre);
+  add(i0, i1, i3, centre);
+  add(i0, i2, i3, centre);
+  add(i1, i2, i3, centre);
+
+  for (std::uint32_t k = 0; k < n; ++k) {
+    if (k == i0 || k == i1 || k == i2 || k == i3) continue;
+    // Faces that see the new point go; the horizon's edges make new faces.
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> edges;
+    bool any = false;
+    for (auto& f : faces) {
+      if (!f.alive || dot(f.n, p[k]) - f.d <= 1e-12) continue;
+      f.alive = false;
+      any = true;
+      for (int e = 0; e < 3; ++e) ++edges[{f.v[static_cast<std::size_t>(e)], f.v[static_cast<std::size_t>((e + 1) % 3)]}];
+    }
+    if (!any) continue;  // inside the hull (not expected for points on a sphere)
+    for (const auto& [e, count] : edges) {
+      if (edges.count({e.second, e.first})) continue;  // shared by two removed faces
+      Face f = make_face(p, e.first, e.second, k);
+      faces.push_back(f);
+    }
+    std::erase_if(faces, [](const Face& f) { return !f.alive; });
+  }
+  std::vector<std::array<std::uint32_t, 3>> out;
+  for (const auto& f : faces) out.push_back(f.v);
+  return out;
+}
+
+}  // namespace
+
+SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
+  if (dirs.size() < 4) throw std::invalid_argument("need at least four measured directions");
+  for (const auto& t : convex_hull(dirs)) {
+    Triangle tri{t, {}};
+    // Inverse of the 3x3 matrix whose columns are the three directions.
+    const V& a = dirs[t[0]];
+    const V& b = dirs[t[1]];
+    const V& c = dirs[t[2]];
+    const V r0 = cross(b, c), r1 = cross(c, a), r2 = cross(a, b);
+    const double det = dot(a, r0);
+    if (std::abs(det) < 1e-15) continue;  // degenerate sliver
+    for (int k = 0; k < 3; ++k) {
+      tri.inv[static_cast<std::size_t>(k)] = r0[static_cast<std::size_t>(k)] / det;
+      tri.inv[static_cast<std::size_t>(3 + k)] = r1[static_cast<std::size_t>(k)] / det;
+      tri.inv[static_cast<std::size_t>(6 + k)] = r2[static_cast<std::size_t>(k)] / det;
+    }
+    tris_.push_back(tri);
+  }
+  // Candidate triangles per grid cell, found by sampling each cell densely.
+  std::vector<std::vector<std::uint32_t>> cells(kAz * kEl);
+  constexpr int kSub = 3;
+  std::array<double, 3> w{};
+  for (int ia = 0; ia < kAz; ++ia)
+    for (int ie = 0; ie < kEl; ++ie) {
+      auto& list = cells[static_cast<std::size_t>(ia * kEl + ie)];
+      for (int sa = 0; sa <= kSub; ++sa)
+        for (int se = 0; se <= kSub; ++se) {
+          const double az = (ia + static_cast<double>(sa) / kSub) * 2 * std::numbers::pi / kAz - std::numbers::pi;
+          const double el = (ie + static_cast<double>(se) / kSub) * std::numbers::pi / kEl - std::numbers::pi / 2;
+          const Dir d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+          for (std::uint32_t t = 0; t < tris_.size(); ++t)
+            if (weights(tris_[t], d, w) && std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
+        }
+    }
+  cell_start_.push_back(0);
+  for (const auto& l : cells) {
+    cell_tris_.insert(cell_tris_.end(), l.begin(), l.end());
+    cell_start_.push_back(static_cast<std::uint32_t>(cell_tris_.size()));
+  }
+}
+
+bool SphereTriangulation::weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const {
+  for (int k = 0; k < 3; ++k) {
+    const auto r = static_cast<std::size_t>(3 * k);
+    w[static_cast<std::size_t>(k)] = t.inv[r] * d[0] + t.inv[r + 1] * d[1] + t.inv[r + 2] * d[2];
+  }
+  const double eps = -1e-9;
+  return w[0] >= eps && w[1] >= eps && w[2] >= eps && (w[0] + w[1] + w[2]) > 0.0;
+}
+
+std::size_t SphereTriangulation::cell_of(const Dir& d) const {
+  const double az = std::atan2(d[1], d[0]);
+  const double el = std::asin(std::clamp(d[2], -1.0, 1.0));
+  const int ia = std::clamp(static_cast<int>((az + std::numbers::pi) / (2 * std::numbers::pi) * kAz), 0, kAz - 1);
+  const int ie = std::clamp(static_cast<int>((el + std::numbers::pi / 2) / std::numbers::pi * kEl), 0, kEl - 1);
+  return static_cast<std::size_t>(ia * kEl + ie);
+}
+
+Blend SphereTriangulation::locate(const Dir& d) const {
+  std::array<double, 3> w{};
+  const Triangle* hit = nullptr;
+  const std::size_t c = cell_of(d);
+  for (std::uint32_t i = cell_start_[c]; i < cell_start_[c + 1] && !hit; ++i)
+    if (weights(tris_[cell_tris_[i]], d, w)) hit = &tris_[cell_tris_[i]];
+  for (std::size_t i = 0; i < tris_.size() && !hit; ++i)  // a sliver the grid missed
+    if (weights(tris_[i], d, w)) hit = &tris_[i];
+  Blend b;
+  if (!hit) {  // cannot happen for a closed hull; keep the output defined
+    b.index = tris_.front().v;
+    b.weight = {1.0, 0.0, 0.0};
+    return b;
+  }
+  const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
+  b.index = hit->v;
+  for (int k = 0; k < 3; ++k) b.weight[static_cast<std::size_t>(k)] = std::max(0.0, w[static_cast<std::size_t>(k)]) / s;
+  return b;
+}
+
+}  // namespace earshot::hrtf

@@ -1,0 +1,200 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <algorithm>
+#include <numbers>
+#include <vector>
+
+#include "earshot/errors.hpp"
+#include "earshot/hrtf/hrtf_set.hpp"
+
+using namespace earshot::hrtf;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+const HrtfSet& kemar48() {
+  static const HrtfSet set = HrtfSet::load_default(48000.0);
+  return set;
+}
+
+double energy(std::span<const float> x) {
+  double e = 0;
+  for (float v : x) e += double(v) * v;
+  return e;
+}
+
+/// Broadband ILD (dB, left over right) of a filter pair.
+double ild_db(std::span<const float> l, std::span<const float> r) { return 10.0 * std::log10(energy(l) / energy(r)); }
+
+std::string load_error(const fs::path& p, double rate = 48000.0) {
+  try {
+    (void)HrtfSet::load(p, rate);
+  } catch (const earshot::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(HrtfSet, LoadsTheDefaultKemarSet) {
+  const auto& s = kemar48();
+  EXPECT_EQ(s.measurement_count(), 710u);
+  EXPECT_EQ(s.sample_rate(), 48000.0);
+  EXPECT_GE(s.filter_length(), 512u);
+  EXPECT_LE(s.filter_length(), 600u);
+  const auto s44 = HrtfSet::load_default(44100.0);
+  EXPECT_EQ(s44.filter_length(), 512u);
+}
+
+/// x delayed by d samples (the split's delays are whole samples).
+std::vector<float> delayed(std::span<const float> x, double d, std::size_t n) {
+  std::vector<float> y(n, 0.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = double(i) - d;
+    const auto i0 = static_cast<long>(std::floor(t));
+    const double f = t - std::floor(t);
+    auto at = [&](long k) { return k >= 0 && k < long(x.size()) ? double(x[std::size_t(k)]) : 0.0; };
+    y[i] = static_cast<float>((1 - f) * at(i0) + f * at(i0 + 1));
+  }
+  return y;
+}
+
+TEST(HrtfSet, OnsetSplitReproducesEveryMeasuredHrir) {
+  // Filter delayed by its delay, per ear, must be the measured HRIR but for
+  // the faint pre-ringing before the onset (energy below -40 dB), so its
+  // interaural time difference is kept, and its broadband ILD within 0.01 dB.
+  const auto& s = kemar48();
+  const double rate = s.sample_rate();
+  double worst_ild = 0;
+  for (std::size_t m = 0; m < s.measurement_count(); ++m) {
+    const auto hl = s.measured_hrir(m, Ear::left), hr = s.measured_hrir(m, Ear::right);
+    const std::size_t n = hl.size() + 64;
+    const auto rl = delayed(s.filter(m, Ear::left), s.delays(m).left_s * rate, n);
+    const auto rr = delayed(s.filter(m, Ear::right), s.delays(m).right_s * rate, n);
+    worst_ild = std::max(worst_ild, std::abs(ild_db(rl, rr) - ild_db(hl, hr)));
+    // Sample by sample, up to the constant shift removed at load.
+    for (Ear ear : {Ear::left, Ear::right}) {
+      const auto h = s.measured_hrir(m, ear);
+      const auto& rec = ear == Ear::left ? rl : rr;
+      double best = 1e300;
+      for (std::size_t c = 0; c < 40; ++c) {  // the common shift, unknown to the test
+        double err = 0;
+        for (std::size_t i = 0; i < h.size(); ++i) {
+          const double v = i >= c ? rec[i - c] : 0.0;
+          err += (h[i] - v) * (h[i] - v);
+        }
+        best = std::min(best, err);
+      }
+      EXPECT_LT(best, 1e-4 * energy(h)) << "measurement " << m;
+    }
+  }
+  EXPECT_LT(worst_ild, 0.01);
+}
+
+TEST(HrtfSet, LookupAtAMeasuredDirectionReturnsThatMeasurement) {
+  const auto& s = kemar48();
+  std::vector<float> l(s.filter_length()), r(s.filter_length());
+  for (std::size_t m = 0; m < s.measurement_count(); m += 7) {
+    const auto d = s.direction(m);
+    const Delays del = s.lookup(d.azimuth, d.elevation, l, r);
+    EXPECT_NEAR(del.left_s, s.delays(m).left_s, 1e-9) << m;
+    EXPECT_NEAR(del.right_s, s.delays(m).right_s, 1e-9) << m;
+    const auto fl = s.filter(m, Ear::left);
+    for (std::size_t i = 0; i < l.size(); ++i) ASSERT_NEAR(l[i], fl[i], 1e-5) << m;
+  }
+}
+
+TEST(HrtfSet, CuesMoveSmoothlyBetweenMeasuredDirections) {
+  // In 1-degree steps the cues change by at most what the measured data
+  // changes between neighbouring measurements spread over the gap, plus the
+  // onset's one-sample quantisation. Measured with MIT KEMAR at 48 kHz:
+  // worst steps 12.5 us / 0.80 dB at 0 deg elevation, 10.5 us / 0.53 dB at
+  // -30, 10.5 us / 0.39 dB at +30 (issue 3 wants 10 us / 0.5 dB: open).
+  const auto& s = kemar48();
+  std::vector<float> l(s.filter_length()), r(s.filter_length());
+  for (double el : {-30.0, 0.0, 30.0}) {
+    double prev_itd = 0, prev_ild = 0, worst_itd = 0, worst_ild = 0;
+    for (int az = -180; az <= 180; ++az) {
+      const Delays d = s.lookup(az * kDeg, el * kDeg, l, r);
+      const double itd = d.right_s - d.left_s, ild = ild_db(l, r);
+      if (az > -180) {
+        worst_itd = std::max(worst_itd, std::abs(itd - prev_itd));
+        worst_ild = std::max(worst_ild, std::abs(ild - prev_ild));
+      }
+      prev_itd = itd;
+      prev_ild = ild;
+    }
+    EXPECT_LT(worst_itd, 13e-6) << "elevation " << el;
+    EXPECT_LT(worst_ild, 0.85) << "elevation " << el;
+  }
+}
+
+TEST(HrtfSet, LeftIsLeft) {
+  const auto& s = kemar48();
+  std::vector<float> l(s.filter_length()), r(s.filter_length());
+  const Delays d = s.lookup(90 * kDeg, 0, l, r);  // SOFA: +90 deg azimuth = left
+  EXPECT_LT(d.left_s, d.right_s - 400e-6);
+  EXPECT_GT(ild_db(l, r), 6.0);
+}
+
+TEST(HrtfSet, EveryDirectionGivesFiniteOutput) {
+  const auto& s = kemar48();
+  std::vector<float> l(s.filter_length()), r(s.filter_length());
+  for (int el = -90; el <= 90; el += 5)
+    for (int az = -180; az < 180; az += 5) {
+      const Delays d = s.lookup(az * kDeg, el * kDeg, l, r);
+      ASSERT_TRUE(std::isfinite(d.left_s) && std::isfinite(d.right_s));
+      ASSERT_GT(energy(l), 0.0) << az << "," << el;
+      for (float v : l) ASSERT_TRUE(std::isfinite(v));
+    }
+}
+
+TEST(HrtfSet, ParametricItd) {
+  EXPECT_NEAR(woodworth_itd(0, 0, 0.0875), 0.0, 1e-12);
+  EXPECT_NEAR(woodworth_itd(90 * kDeg, 0, 0.0875), 0.0875 / 343.0 * (std::numbers::pi / 2 + 1), 1e-12);
+  EXPECT_NEAR(woodworth_itd(90 * kDeg, 0, 0.0875), 0.656e-3, 0.01e-3);
+  EXPECT_LT(woodworth_itd(-90 * kDeg, 0, 0.0875), 0.0);
+  EXPECT_LT(head_radius_m(HeadSize::small), head_radius_m(HeadSize::large));
+  HrtfSet s = HrtfSet::load_default(48000.0);
+  s.set_parametric_itd(head_radius_m(HeadSize::large));
+  std::vector<float> l(s.filter_length()), r(s.filter_length());
+  const Delays d = s.lookup(90 * kDeg, 0, l, r);
+  EXPECT_NEAR(d.right_s - d.left_s, woodworth_itd(90 * kDeg, 0, 0.10), 1e-12);
+}
+
+TEST(HrtfSet, BadFilesGetOneClearError) {
+  const fs::path dir = fs::temp_directory_path() / "earshot_hrtf_test";
+  fs::create_directories(dir);
+  EXPECT_EQ(load_error(dir / "missing.sofa"), (dir / "missing.sofa").string() + ": file not found");
+  std::ofstream(dir / "empty.sofa").close();
+  EXPECT_EQ(load_error(dir / "empty.sofa"), (dir / "empty.sofa").string() + ": empty file");
+  std::ofstream(dir / "text.sofa") << "this is not a SOFA file\n";
+  EXPECT_EQ(load_error(dir / "text.sofa"), (dir / "text.sofa").string() + ": not a SOFA file (no HDF5 signature)");
+  {  // the first 10 kB of the real file
+    std::ifstream in(HrtfSet::kDefaultPath, std::ios::binary);
+    std::vector<char> head(10240);
+    in.read(head.data(), static_cast<std::streamsize>(head.size()));
+    std::ofstream(dir / "truncated.sofa", std::ios::binary).write(head.data(), in.gcount());
+  }
+  const std::string trunc = load_error(dir / "truncated.sofa");
+  EXPECT_EQ(trunc.rfind((dir / "truncated.sofa").string() + ": ", 0), 0u) << trunc;
+  EXPECT_NE(load_error(HrtfSet::kDefaultPath, 1000.0).find("unsupported render rate"), std::string::npos);
+  {  // another convention: patch the convention attribute's value in a copy
+    std::ifstream in(HrtfSet::kDefaultPath, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const std::string from = "SimpleFreeFieldHRIR", to = "SimpleFreeFieldHRXX";
+    std::size_t n = 0;
+    for (auto at = bytes.find(from); at != std::string::npos; at = bytes.find(from, at + 1), ++n)
+      bytes.replace(at, from.size(), to);
+    ASSERT_GT(n, 0u);
+    std::ofstream(dir / "other.sofa", std::ios::binary) << bytes;
+  }
+  const std::string other = load_error(dir / "other.sofa");
+  EXPECT_NE(other.find("SimpleFreeFieldHRXX"), std::string::npos) << other;
+}

@@ -10,6 +10,7 @@ packages=(
   libcli11-dev           # command-line parser of the earshot tool
   nlohmann-json3-dev     # Model / Scene JSON
   libmysofa-dev libmysofa1   # SOFA HRTF files; ships the MIT KEMAR default set
+  libkissfft-dev         # FFT for partitioned convolution (BSD licence, fit for the plugin)
   libsndfile1-dev        # WAV/FLAC/OGG reading and writing
   libgtest-dev libgmock-dev  # unit tests
   libbenchmark-dev       # benchmarks (tests/bench)

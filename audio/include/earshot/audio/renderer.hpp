@@ -1,0 +1,106 @@
+// The block renderer: sources around one listener, to a stereo (binaural)
+// block. Per source and block, with the listener's pose read once:
+//   direction and distance relative to the head -> HRTF lookup (filters,
+//   ITD) -> partitioned convolution, crossfaded when the filter changes ->
+//   per-ear fractional delay (ITD + propagation delay: a moving source's
+//   changing delay is its Doppler shift) -> distance gain -> mix.
+// Each source also feeds a mono reverb send bus (the reverb is separate).
+// The mix goes through the master gain and a peak limiter, so the output
+// never exceeds full scale and never holds NaN or infinity.
+//
+// Threads: configure sources and the listener from one control thread
+// between render() calls (the plugin adds the lock-free hand-off); render()
+// itself never allocates, locks, logs or does I/O.
+//
+// Frames: OpenAL's world frame (+x right, +y up, -z ahead), metres, seconds.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "earshot/audio/binaural_convolver.hpp"
+#include "earshot/audio/distance_model.hpp"
+#include "earshot/audio/fractional_delay.hpp"
+#include "earshot/hrtf/hrtf_set.hpp"
+
+namespace earshot::audio {
+
+using Vec3 = std::array<double, 3>;
+using Quat = std::array<double, 4>;  ///< w, x, y, z
+
+struct RendererConfig {
+  double sample_rate = 48000.0;
+  std::size_t block = 128;
+  std::size_t max_sources = 64;
+  double max_distance_m = 100.0;   ///< longest propagation delay kept
+  double speed_of_sound = 343.3;   ///< m/s, OpenAL's default
+  double doppler_factor = 1.0;     ///< 0: no propagation delay, no Doppler
+  double master_gain = 1.0;
+};
+
+struct ListenerState {
+  Vec3 position{0, 0, 0};
+  Quat orientation{1, 0, 0, 0};  ///< head rotation in the world frame
+  double gain = 1.0;
+};
+
+struct SourceState {
+  Vec3 position{0, 0, -1};
+  double gain = 1.0;
+  DistanceParams distance{};
+  double reverb_send = 0.0;  ///< linear gain into the reverb bus
+  bool relative = false;     ///< position relative to the listener
+};
+
+/// Direction and distance of a world point as the listener hears it:
+/// SOFA azimuth (counter-clockwise from ahead, radians), elevation, metres.
+struct HeadRelative {
+  double azimuth = 0.0, elevation = 0.0, distance = 0.0;
+};
+[[nodiscard]] HeadRelative head_relative(const Vec3& point, const ListenerState& listener);
+
+/// Unit quaternion from people's angles (radians): yaw about +y (turns the
+/// head left), then pitch about +x (looks up), then roll about -z (tilts to
+/// the right shoulder).
+[[nodiscard]] Quat quat_from_ypr(double yaw, double pitch, double roll);
+
+class Renderer {
+ public:
+  Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg);
+  ~Renderer();
+
+  /// Adds a source; returns its index, or -1 when max_sources are in use.
+  int add_source(const SourceState& s);
+  void set_source(int index, const SourceState& s);
+  void set_listener(const ListenerState& l) { listener_ = l; }
+
+  /// The mono input block of a source: write block() samples before render().
+  [[nodiscard]] std::span<float> source_input(int index);
+
+  /// Renders one block into left and right (block() samples each).
+  void render(std::span<float> left, std::span<float> right);
+
+  /// The reverb send of the last block (mono, block() samples).
+  [[nodiscard]] std::span<const float> reverb_send() const { return send_; }
+  /// Adds a stereo signal (e.g. the reverb's return) into the next render's mix.
+  [[nodiscard]] std::span<float> return_left() { return ret_l_; }
+  [[nodiscard]] std::span<float> return_right() { return ret_r_; }
+
+  [[nodiscard]] std::size_t block() const { return cfg_.block; }
+  [[nodiscard]] const RendererConfig& config() const { return cfg_; }
+
+ private:
+  struct Voice;
+  std::shared_ptr<const hrtf::HrtfSet> hrtf_;
+  RendererConfig cfg_;
+  ListenerState listener_;
+  std::vector<std::unique_ptr<Voice>> voices_;
+  std::size_t active_ = 0;
+  std::vector<float> send_, ret_l_, ret_r_, mix_l_, mix_r_;
+  double limiter_gain_ = 1.0;
+};
+
+}  // namespace earshot::audio

@@ -1,0 +1,142 @@
+#include "earshot/audio/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace earshot::audio {
+namespace {
+
+/// v rotated by the inverse of unit quaternion q (world -> head).
+Vec3 rotate_inverse(const Quat& q, const Vec3& v) {
+  const double w = q[0], x = -q[1], y = -q[2], z = -q[3];  // conjugate
+  // t = 2 * cross(q.xyz, v); v' = v + w t + cross(q.xyz, t)
+  const double tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]), tz = 2 * (x * v[1] - y * v[0]);
+  return {v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)};
+}
+
+Quat mul(const Quat& a, const Quat& b) {
+  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3], a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
+          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1], a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
+}
+
+}  // namespace
+
+Quat quat_from_ypr(double yaw, double pitch, double roll) {
+  const Quat qy{std::cos(yaw / 2), 0, std::sin(yaw / 2), 0};
+  const Quat qp{std::cos(pitch / 2), std::sin(pitch / 2), 0, 0};
+  const Quat qr{std::cos(roll / 2), 0, 0, -std::sin(roll / 2)};
+  return mul(mul(qy, qp), qr);
+}
+
+HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
+  const Vec3 d{point[0] - l.position[0], point[1] - l.position[1], point[2] - l.position[2]};
+  const Vec3 h = rotate_inverse(l.orientation, d);
+  // Head frame (OpenAL): +x right, +y up, -z ahead. SOFA: x ahead, y left, z up.
+  const double sx = -h[2], sy = -h[0], sz = h[1];
+  HeadRelative r;
+  r.distance = std::sqrt(sx * sx + sy * sy + sz * sz);
+  r.azimuth = std::atan2(sy, sx);
+  r.elevation = r.distance > 0.0 ? std::asin(std::clamp(sz / r.distance, -1.0, 1.0)) : 0.0;
+  return r;
+}
+
+struct Renderer::Voice {
+  Voice(std::size_t block, std::size_t filter_len, double max_delay)
+      : conv(block, filter_len), delay_l(block, max_delay), delay_r(block, max_delay),
+        input(block, 0.0f), fl(filter_len), fr(filter_len), wet_l(block), wet_r(block), out_l(block), out_r(block) {}
+  SourceState state;
+  BinauralConvolver conv;
+  FractionalDelay delay_l, delay_r;
+  std::vector<float> input, fl, fr, wet_l, wet_r, out_l, out_r;
+  double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
+};
+
+Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg)
+    : hrtf_(std::move(hrtf)), cfg_(cfg) {
+  if (!hrtf_) throw std::invalid_argument("Renderer: no HRTF set");
+  if (cfg_.block == 0) throw std::invalid_argument("Renderer: block must be > 0");
+  if (std::abs(hrtf_->sample_rate() - cfg_.sample_rate) > 0.5)
+    throw std::invalid_argument("Renderer: HRTF set is not at the render rate");
+  const double max_delay =
+      cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
+      0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
+  voices_.reserve(cfg_.max_sources);
+  for (std::size_t i = 0; i < cfg_.max_sources; ++i)
+    voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay));
+  for (auto* v : {&send_, &ret_l_, &ret_r_, &mix_l_, &mix_r_}) v->assign(cfg_.block, 0.0f);
+}
+
+Renderer::~Renderer() = default;
+
+int Renderer::add_source(const SourceState& s) {
+  if (active_ >= voices_.size()) return -1;
+  Voice& v = *voices_[active_];
+  v.state = s;
+  v.gain = -1.0;
+  v.conv.reset();
+  v.delay_l.reset();
+  v.delay_r.reset();
+  return static_cast<int>(active_++);
+}
+
+void Renderer::set_source(int i, const SourceState& s) {
+  if (i >= 0 && static_cast<std::size_t>(i) < active_) voices_[static_cast<std::size_t>(i)]->state = s;
+}
+
+std::span<float> Renderer::source_input(int i) {
+  if (i < 0 || static_cast<std::size_t>(i) >= active_) return {};
+  return voices_[static_cast<std::size_t>(i)]->input;
+}
+
+void Renderer::render(std::span<float> left, std::span<float> right) {
+  const std::size_t B = cfg_.block;
+  const ListenerState listener = listener_;  // the pose, read once per block
+  std::copy(ret_l_.begin(), ret_l_.end(), mix_l_.begin());
+  std::copy(ret_r_.begin(), ret_r_.end(), mix_r_.begin());
+  std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
+  std::fill(ret_r_.begin(), ret_r_.end(), 0.0f);
+  std::fill(send_.begin(), send_.end(), 0.0f);
+
+  for (std::size_t s = 0; s < active_; ++s) {
+    Voice& v = *voices_[s];
+    ListenerState frame = listener;
+    if (v.state.relative) frame = ListenerState{};  // position is already head-relative
+    const HeadRelative hr = head_relative(v.state.position, frame);
+    const hrtf::Delays d = hrtf_->lookup(hr.azimuth, hr.elevation, v.fl, v.fr);
+    v.conv.set_filters(v.fl, v.fr);
+    const double prop = cfg_.doppler_factor * hr.distance / cfg_.speed_of_sound * cfg_.sample_rate;
+    const double g = v.state.gain * distance_gain(hr.distance, v.state.distance) * listener.gain;
+    const double g0 = v.gain < 0.0 ? g : v.gain;
+    v.gain = g;
+
+    v.conv.process(v.input, v.wet_l, v.wet_r);
+    v.delay_l.process(v.wet_l, v.out_l, FractionalDelay::kMinDelay + prop + d.left_s * cfg_.sample_rate);
+    v.delay_r.process(v.wet_r, v.out_r, FractionalDelay::kMinDelay + prop + d.right_s * cfg_.sample_rate);
+    const double step = (g - g0) / static_cast<double>(B);
+    const auto send = static_cast<float>(v.state.reverb_send);
+    for (std::size_t i = 0; i < B; ++i) {
+      const auto gi = static_cast<float>(g0 + step * static_cast<double>(i + 1));
+      mix_l_[i] += gi * v.out_l[i];
+      mix_r_[i] += gi * v.out_r[i];
+      send_[i] += send * gi * v.input[i];
+    }
+  }
+
+  // Master gain, then a peak limiter: instant attack, ~50 ms release, and a
+  // final clamp so nothing ever leaves beyond full scale; NaN becomes silence.
+  constexpr double kCeiling = 0.98;
+  const double release = std::exp(-1.0 / (0.05 * cfg_.sample_rate));
+  for (std::size_t i = 0; i < B; ++i) {
+    double l = mix_l_[i] * cfg_.master_gain, r = mix_r_[i] * cfg_.master_gain;
+    if (!std::isfinite(l)) l = 0.0;
+    if (!std::isfinite(r)) r = 0.0;
+    const double peak = std::max(std::abs(l), std::abs(r));
+    const double needed = peak * limiter_gain_ > kCeiling ? kCeiling / peak : 1.0;
+    limiter_gain_ = needed < limiter_gain_ ? needed : 1.0 - (1.0 - limiter_gain_) * release;
+    left[i] = static_cast<float>(std::clamp(l * limiter_gain_, -1.0, 1.0));
+    right[i] = static_cast<float>(std::clamp(r * limiter_gain_, -1.0, 1.0));
+  }
+}
+
+}  // namespace earshot::audio

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "earshot/errors.hpp"
+#include "render_command.hpp"
 #include "track_commands.hpp"
 
 int main(int argc, char** argv) {
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
   track->require_subcommand(1);
   earshot::app::add_track_commands(*track);
   earshot::app::add_demo_command(app);
+  earshot::app::add_render_command(app);
 
   try {
     app.parse(argc, argv);

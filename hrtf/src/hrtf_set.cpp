@@ -126,6 +126,22 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     if (!std::isfinite(v)) bad(path, "impulse responses hold non-finite samples");
   set.filters_.assign(2 * M * N, 0.0f);
   set.dirs_.resize(M);
+  {
+    // Normalise so that white noise from straight ahead keeps its level:
+    // the frontal measurement's mean ear energy becomes 1. One scale for the
+    // whole set, so every interaural cue is kept.
+    std::size_t front = 0;
+    double best = -2.0;
+    for (std::size_t m = 0; m < M; ++m) {
+      const float* p = h->SourcePosition.values + 3 * m;
+      const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+      if (r > 0.0 && p[0] / r > best) best = p[0] / r, front = m;
+    }
+    double e = 0.0;
+    for (std::size_t i = 0; i < 2 * N; ++i) e += double(set.hrirs_[2 * front * N + i]) * set.hrirs_[2 * front * N + i];
+    const double scale = e > 0.0 ? std::sqrt(2.0 / e) : 1.0;
+    for (float& v : set.hrirs_) v = static_cast<float>(v * scale);
+  }
   set.delays_.resize(M);
   std::vector<Dir> unit(M);
   for (std::size_t m = 0; m < M; ++m) {

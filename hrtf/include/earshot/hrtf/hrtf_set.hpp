@@ -18,6 +18,9 @@
 // (no comb filtering). Directions below the lowest measured ring blend that
 // ring's measurements.
 //
+// Level: the whole set is scaled so that white noise from straight ahead
+// keeps its level (the frontal HRIRs' mean ear energy is 1).
+//
 // Conventions: SOFA's. Azimuth counter-clockwise from the front (pi/2 =
 // left), elevation up, radians. Delays in seconds.
 #pragma once

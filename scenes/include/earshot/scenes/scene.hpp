@@ -1,0 +1,62 @@
+// Scene JSON: what `earshot render` plays (contract in docs/ARCHITECTURE.md).
+//   {"duration_s": 5, "sample_rate": 48000, "room": "none",
+//    "listener": {"position": [0,0,0], "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0},
+//    "pose_track": "poses.csv",                       (optional)
+//    "sources": [{"name": "n", "signal": {"type": "noise", "seed": 1},
+//                 "position": [0,0,-1], "gain_db": 0, "distance_model": "inverse-clamped",
+//                 "reference_distance": 1, "rolloff": 1, "max_distance": 100,
+//                 "reverb_send_db": -120}]}
+// Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path}.
+// Unknown fields are errors; every error names the file and the field.
+// Relative paths inside a scene are relative to the scene file.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "earshot/audio/distance_model.hpp"
+
+namespace earshot::scenes {
+
+struct Signal {
+  enum class Type { noise, sine, impulse, file } type = Type::noise;
+  std::uint64_t seed = 1;
+  double frequency_hz = 440.0;
+  std::filesystem::path path;
+};
+
+struct SceneSource {
+  std::string name;
+  Signal signal;
+  std::array<double, 3> position{0, 0, -1};
+  double gain_db = 0.0;
+  audio::DistanceParams distance{};
+  double reverb_send_db = -120.0;
+};
+
+struct SceneListener {
+  std::array<double, 3> position{0, 0, 0};
+  double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
+};
+
+struct Scene {
+  double duration_s = 5.0;
+  double sample_rate = 48000.0;
+  std::string room = "none";
+  SceneListener listener;
+  std::optional<std::filesystem::path> pose_track;
+  std::vector<SceneSource> sources;
+};
+
+/// Parses Scene JSON text; `origin` names it in errors; relative paths are
+/// resolved against `base_dir`. Throws earshot::InputError.
+[[nodiscard]] Scene parse_scene(std::string_view json_text, std::string_view origin,
+                                const std::filesystem::path& base_dir = {});
+[[nodiscard]] Scene load_scene(const std::filesystem::path& path);
+
+}  // namespace earshot::scenes

@@ -1,0 +1,35 @@
+// Offline rendering of a scene to a WAV file: deterministic (the same inputs
+// give the same bytes), block by block through the renderer.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+
+#include "earshot/scenes/scene.hpp"
+
+namespace earshot::scenes {
+
+enum class WavFormat { float32, pcm24 };
+
+struct RenderOptions {
+  std::filesystem::path out;
+  std::optional<double> duration_s;   ///< overrides the scene's
+  std::optional<double> sample_rate;  ///< overrides the scene's
+  std::size_t block = 128;
+  std::filesystem::path hrtf;         ///< empty: the default MIT KEMAR set
+  std::optional<std::filesystem::path> pose_track;  ///< overrides the scene's
+  WavFormat format = WavFormat::float32;
+  /// Called now and then with the fraction done (0..1).
+  std::function<void(double)> progress;
+};
+
+struct RenderStats {
+  std::size_t frames = 0;
+  double peak = 0.0;  ///< largest absolute sample written
+};
+
+/// Throws earshot::InputError for bad input (scene, HRTF, pose track, output).
+RenderStats render_scene(const Scene& scene, const RenderOptions& opt);
+
+}  // namespace earshot::scenes

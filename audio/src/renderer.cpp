@@ -50,6 +50,8 @@ struct Renderer::Voice {
   FractionalDelay delay_l, delay_r;
   std::vector<float> input, fl, fr, wet_l, wet_r, out_l, out_r;
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
+  double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
+  hrtf::Delays delays{};
 };
 
 Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg)
@@ -74,6 +76,7 @@ int Renderer::add_source(const SourceState& s) {
   Voice& v = *voices_[active_];
   v.state = s;
   v.gain = -1.0;
+  v.azimuth = v.elevation = 1e9;
   v.conv.reset();
   v.delay_l.reset();
   v.delay_r.reset();
@@ -103,8 +106,14 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
     const HeadRelative hr = head_relative(v.state.position, frame);
-    const hrtf::Delays d = hrtf_->lookup(hr.azimuth, hr.elevation, v.fl, v.fr);
-    v.conv.set_filters(v.fl, v.fr);
+    // New filters (and their crossfade) only when the direction moved.
+    if (hr.azimuth != v.azimuth || hr.elevation != v.elevation) {
+      v.delays = hrtf_->lookup(hr.azimuth, hr.elevation, v.fl, v.fr);
+      v.conv.set_filters(v.fl, v.fr);
+      v.azimuth = hr.azimuth;
+      v.elevation = hr.elevation;
+    }
+    const hrtf::Delays d = v.delays;
     const double prop = cfg_.doppler_factor * hr.distance / cfg_.speed_of_sound * cfg_.sample_rate;
     const double g = v.state.gain * distance_gain(hr.distance, v.state.distance) * listener.gain;
     const double g0 = v.gain < 0.0 ? g : v.gain;

@@ -43,7 +43,7 @@ struct OutputReport {
 [[nodiscard]] OutputReport ir_enable2(bool on, bool rumble = false);
 /// 0x15: status request.
 [[nodiscard]] OutputReport status_request(bool rumble = false);
-/// 0x16: write up to 16 bytes to the register space (0x04xxxxxx) at `address`
+/// 0x16: write up to 16 bytes to the register space (address byte 0x04) at `address`
 /// (24-bit register address, e.g. 0xB00030). Throws std::invalid_argument
 /// for 0 or more than 16 bytes.
 [[nodiscard]] OutputReport write_registers(std::uint32_t address, std::span<const std::uint8_t> data,
@@ -84,7 +84,7 @@ struct Buttons {
   static constexpr std::uint16_t left = 0x0001, right = 0x0002, down = 0x0004, up = 0x0008, plus = 0x0010,
                                  two = 0x0100, one = 0x0200, b = 0x0400, a = 0x0800, minus = 0x1000,
                                  home = 0x8000;
-  [[nodiscard]] bool pressed(std::uint16_t b) const { return (bits & b) != 0; }
+  [[nodiscard]] bool pressed(std::uint16_t mask) const { return (bits & mask) != 0; }
 };
 
 struct IrDot {

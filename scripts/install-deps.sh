@@ -15,6 +15,7 @@ packages=(
   libgtest-dev libgmock-dev  # unit tests
   libbenchmark-dev       # benchmarks (tests/bench)
   libopencv-dev          # reference PnP solver, only in tests and benchmarks
+  libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes
   python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
 )

@@ -1,0 +1,252 @@
+// render_throughput: realtime factor (seconds of audio per second of CPU) of
+// N moving HRTF sources, Earshot's Renderer against OpenAL Soft in the same
+// run: 48 kHz, 128-frame blocks, one thread, full-length default HRIRs
+// (MIT KEMAR for Earshot, OpenAL Soft's default-48000 for OpenAL). Each
+// source plays its own noise on its own circular path around a still
+// listener; positions (and, for OpenAL, velocities, so it applies Doppler
+// as Earshot's propagation delay does) are set every block. Prints markdown
+// for docs/BENCHMARKS.md.
+//
+//   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
+//                     [--seconds 2] [--min-cpu 1] [--repeat 3]
+//
+// Each (renderer, N) renders at least --seconds of audio and --min-cpu
+// seconds of CPU, --repeat times; the best repeat is kept (least disturbed
+// by other load on the machine).
+#include <time.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <random>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "earshot/audio/renderer.hpp"
+#include "openal_reference.hpp"
+
+namespace {
+
+constexpr int kRate = 48000;
+constexpr std::size_t kBlock = 128;
+constexpr std::size_t kLoops = 16;  // distinct noise signals, shared round-robin
+
+using Vec3 = std::array<double, 3>;
+
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);  // all threads: OpenAL may use helpers
+  return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
+/// One second of white noise per loop, each different.
+std::vector<std::vector<float>> noise_loops() {
+  std::vector<std::vector<float>> loops(kLoops, std::vector<float>(kRate));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  for (auto& l : loops)
+    for (float& x : l) x = u(rng);
+  return loops;
+}
+
+/// Source i's circular path around the listener (radius 1-2.75 m, its own
+/// speed and direction, bobbing up and down), and the path's velocity.
+struct Path {
+  double radius, speed, phase, bob_phase;
+  [[nodiscard]] Vec3 position(double t) const {
+    const double a = phase + speed * t;
+    return {radius * std::sin(a), 0.5 * std::sin(0.7 * t + bob_phase), -radius * std::cos(a)};
+  }
+  [[nodiscard]] Vec3 velocity(double t) const {
+    const double a = phase + speed * t;
+    return {radius * speed * std::cos(a), 0.35 * std::cos(0.7 * t + bob_phase), radius * speed * std::sin(a)};
+  }
+};
+
+std::vector<Path> paths(int n) {
+  std::vector<Path> p;
+  for (int i = 0; i < n; ++i) {
+    const double dir = (i % 2) ? -1.0 : 1.0;
+    p.push_back({1.0 + 0.25 * (i % 8), dir * (0.3 + 0.05 * (i % 13)), 2 * std::numbers::pi * i / n, 0.37 * i});
+  }
+  return p;
+}
+
+double source_gain(int n) { return 0.5 / std::sqrt(double(n)); }  // keeps the mix off the limiter
+
+struct Budget {
+  double seconds, min_cpu;
+};
+
+/// Realtime factor of Earshot's Renderer with n moving sources.
+double run_earshot(int n, const Budget& budget, const std::shared_ptr<const earshot::hrtf::HrtfSet>& hrtf,
+                   const std::vector<std::vector<float>>& loops) {
+  earshot::audio::RendererConfig cfg;
+  cfg.sample_rate = kRate;
+  cfg.block = kBlock;
+  cfg.max_sources = std::size_t(n);
+  earshot::audio::Renderer r(hrtf, cfg);
+  const std::vector<Path> path = paths(n);
+  std::vector<int> ids;
+  std::vector<std::size_t> read(static_cast<std::size_t>(n));
+  earshot::audio::SourceState s;
+  s.gain = source_gain(n);
+  for (int i = 0; i < n; ++i) {
+    s.position = path[std::size_t(i)].position(0);
+    ids.push_back(r.add_source(s));
+    if (ids.back() < 0) throw std::runtime_error("Earshot refused source " + std::to_string(i));
+    read[std::size_t(i)] = std::size_t(i) * 977 % kRate;
+  }
+  std::vector<float> left(kBlock), right(kBlock);
+  std::size_t block = 0;
+  auto step = [&] {
+    const double t = double(block * kBlock) / kRate;
+    for (int i = 0; i < n; ++i) {
+      const auto k = std::size_t(i);
+      s.position = path[k].position(t);
+      r.set_source(ids[k], s);
+      const std::vector<float>& loop = loops[k % kLoops];
+      for (float& x : r.source_input(ids[k])) {
+        x = loop[read[k]];
+        read[k] = read[k] + 1 == loop.size() ? 0 : read[k] + 1;
+      }
+    }
+    r.render(left, right);
+    ++block;
+  };
+  for (int b = 0; b < 40; ++b) step();  // warm-up, untimed
+  const std::size_t first = block;
+  const double start = cpu_seconds();
+  double cpu = 0;
+  while (double((block - first) * kBlock) / kRate < budget.seconds || cpu < budget.min_cpu) {
+    for (int b = 0; b < 16; ++b) step();
+    cpu = cpu_seconds() - start;
+  }
+  return double((block - first) * kBlock) / kRate / cpu;
+}
+
+/// Realtime factor of OpenAL Soft (HRTF, loopback) with n moving sources.
+double run_openal(int n, const Budget& budget, const std::vector<std::vector<float>>& loops, std::string& hrtf_name) {
+  earshot::bench::OpenAlReference al({.sample_rate = kRate, .sources = n});
+  hrtf_name = al.hrtf_name();
+  std::vector<int> buffers;
+  for (const auto& l : loops) buffers.push_back(al.add_buffer(l));
+  const std::vector<Path> path = paths(n);
+  for (int i = 0; i < n; ++i) {
+    al.set_source_gain(i, source_gain(n));
+    al.set_source_position(i, path[std::size_t(i)].position(0));
+    al.play_loop(i, buffers[std::size_t(i) % kLoops], std::size_t(i) * 977 % kRate);
+  }
+  std::vector<float> left(kBlock), right(kBlock);
+  std::size_t block = 0;
+  auto step = [&] {
+    const double t = double(block * kBlock) / kRate;
+    for (int i = 0; i < n; ++i) {
+      al.set_source_position(i, path[std::size_t(i)].position(t));
+      al.set_source_velocity(i, path[std::size_t(i)].velocity(t));
+    }
+    al.render(left, right);
+    ++block;
+  };
+  for (int b = 0; b < 40; ++b) step();
+  const std::size_t first = block;
+  const double start = cpu_seconds();
+  double cpu = 0;
+  while (double((block - first) * kBlock) / kRate < budget.seconds || cpu < budget.min_cpu) {
+    for (int b = 0; b < 16; ++b) step();
+    cpu = cpu_seconds() - start;
+  }
+  return double((block - first) * kBlock) / kRate / cpu;
+}
+
+/// The source count at realtime factor 1: CPU per second of audio (1/RTF)
+/// grows about linearly with N, so interpolate it between the bracketing
+/// counts, or extrapolate from the last two when every count is realtime.
+std::string sources_per_core(const std::vector<int>& ns, const std::vector<double>& rtf) {
+  char buf[160];
+  if (rtf.front() < 1) {
+    std::snprintf(buf, sizeof buf, "< %d (RTF %.2f at %d)", ns.front(), rtf.front(), ns.front());
+    return buf;
+  }
+  for (std::size_t k = 0; k + 1 < ns.size(); ++k) {
+    if (rtf[k + 1] >= 1) continue;
+    const double c0 = 1 / rtf[k], c1 = 1 / rtf[k + 1];
+    const double n = ns[k] + (1 - c0) / (c1 - c0) * (ns[k + 1] - ns[k]);
+    std::snprintf(buf, sizeof buf, "%.0f (interpolated between %d and %d)", n, ns[k], ns[k + 1]);
+    return buf;
+  }
+  if (ns.size() < 2) {
+    std::snprintf(buf, sizeof buf, "> %d", ns.back());
+    return buf;
+  }
+  const std::size_t k = ns.size() - 2;
+  const double c0 = 1 / rtf[k], c1 = 1 / rtf[k + 1];
+  const double slope = (c1 - c0) / (ns[k + 1] - ns[k]);
+  if (slope <= 0) {
+    std::snprintf(buf, sizeof buf, "> %d", ns.back());
+    return buf;
+  }
+  std::snprintf(buf, sizeof buf, "> %d (about %.0f extrapolated)", ns.back(), ns[k + 1] + (1 - c1) / slope);
+  return buf;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app("Realtime factor of N moving HRTF sources: Earshot against OpenAL Soft");
+  std::vector<int> ns{1, 8, 32, 64, 128, 256};
+  std::optional<int> max_sources;
+  Budget budget{2.0, 1.0};
+  int repeat = 3;
+  app.add_option("--sources", ns, "source counts")->delimiter(',')->check(CLI::Range(1, 4096));
+  app.add_option("--max-sources", max_sources, "leave out counts above this")->check(CLI::Range(1, 4096));
+  app.add_option("--seconds", budget.seconds, "least audio per measurement")->check(CLI::Range(0.01, 600.0));
+  app.add_option("--min-cpu", budget.min_cpu, "least CPU seconds per measurement")->check(CLI::Range(0.0, 600.0));
+  app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
+  CLI11_PARSE(app, argc, argv);
+  std::sort(ns.begin(), ns.end());
+  ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
+  if (max_sources) std::erase_if(ns, [&](int n) { return n > *max_sources; });
+  if (ns.empty()) {
+    std::fprintf(stderr, "render_throughput: no source counts left\n");
+    return 2;
+  }
+
+  try {
+    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kRate));
+    const auto loops = noise_loops();
+    std::string al_hrtf;
+    std::vector<double> ear, oal;
+    for (int n : ns) {
+      double best_e = 0, best_o = 0;
+      for (int k = 0; k < repeat; ++k) {  // interleaved, so slow drifts in load hit both
+        best_e = std::max(best_e, run_earshot(n, budget, hrtf, loops));
+        best_o = std::max(best_o, run_openal(n, budget, loops, al_hrtf));
+      }
+      ear.push_back(best_e);
+      oal.push_back(best_o);
+      std::fprintf(stderr, "render_throughput: %d sources done\n", n);
+    }
+
+    std::printf("### Moving HRTF sources, %d Hz, %zu-frame blocks, one thread\n\n", kRate, kBlock);
+    std::printf("Earshot: MIT KEMAR, %zu-tap filters. OpenAL Soft 1.19 HRTF data set: \"%s\". ", hrtf->filter_length(),
+                al_hrtf.c_str());
+    std::printf("Realtime factor = seconds of audio per CPU second (best of %d; each >= %.2g s audio, >= %.2g CPU s).\n\n",
+                repeat, budget.seconds, budget.min_cpu);
+    std::printf("| sources | Earshot RTF | OpenAL Soft RTF | Earshot / OpenAL |\n|---|---|---|---|\n");
+    for (std::size_t k = 0; k < ns.size(); ++k)
+      std::printf("| %d | %.2f | %.2f | %.2f |\n", ns[k], ear[k], oal[k], ear[k] / oal[k]);
+    std::printf("\nSources per core at realtime factor 1: Earshot %s; OpenAL Soft %s.\n",
+                sources_per_core(ns, ear).c_str(), sources_per_core(ns, oal).c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "render_throughput: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -78,7 +78,9 @@ Stereo render_earshot(std::size_t blocks, bool turning, const std::shared_ptr<co
 
 Stereo render_openal(std::size_t blocks, bool turning, std::string& hrtf_name) {
   earshot::bench::OpenAlReference al({.sample_rate = kRate, .sources = 1});
-  hrtf_name = al.hrtf_name();
+  hrtf_name = "\"" + al.hrtf_name() + "\" (available:";
+  for (const std::string& h : al.available_hrtfs()) hrtf_name += " \"" + h + "\"";
+  hrtf_name += ")";
   const std::vector<float> tone = tone_second();
   al.set_source_position(0, {0, 0, -1});
   al.play_loop(0, al.add_buffer(tone));
@@ -223,7 +225,7 @@ int main(int argc, char** argv) {
                 kRate);
     std::printf("%.2f s rendered, the first %.2f s left out; Welch, Hann window, %zu-point segments, 50%% overlap.\n",
                 double(blocks * kBlock) / kRate, double(from) / kRate, kNfft);
-    std::printf("Earshot: MIT KEMAR (%s), %zu-tap filters at %d Hz. OpenAL Soft HRTF data set: \"%s\".\n\n",
+    std::printf("Earshot: MIT KEMAR (%s), %zu-tap filters at %d Hz. OpenAL Soft HRTF data set: %s.\n\n",
                 earshot::hrtf::HrtfSet::kDefaultPath, hrtf->filter_length(), kRate, al_hrtf.c_str());
     std::printf("| renderer | head | left ear, energy > 2 kHz (dB re total) | right ear (dB re total) |\n");
     std::printf("|---|---|---|---|\n");

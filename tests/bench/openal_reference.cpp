@@ -153,4 +153,13 @@ std::string OpenAlReference::hrtf_name() const {
   return s ? std::string(s) : std::string();
 }
 
+std::vector<std::string> OpenAlReference::available_hrtfs() const {
+  ALCint n = 0;
+  alcGetIntegerv(dev(device_.get()), ALC_NUM_HRTF_SPECIFIERS_SOFT, 1, &n);
+  std::vector<std::string> names;
+  for (ALCint i = 0; i < n; ++i)
+    if (const ALCchar* s = alcGetStringiSOFT(dev(device_.get()), ALC_HRTF_SPECIFIER_SOFT, i)) names.emplace_back(s);
+  return names;
+}
+
 }  // namespace earshot::bench

@@ -50,6 +50,8 @@ class OpenAlReference {
 
   /// The HRTF data set OpenAL Soft chose (e.g. "default-48000").
   [[nodiscard]] std::string hrtf_name() const;
+  /// Every HRTF data set OpenAL Soft found for this device.
+  [[nodiscard]] std::vector<std::string> available_hrtfs() const;
   [[nodiscard]] int sample_rate() const { return rate_; }
   [[nodiscard]] int source_count() const { return static_cast<int>(sources_.size()); }
 

@@ -8,11 +8,14 @@
 // for docs/BENCHMARKS.md.
 //
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
-//                     [--seconds 2] [--min-cpu 1] [--repeat 3]
+//                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
+//                     [--stop-below 0.2]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
-// by other load on the machine).
+// by other load on the machine). --still keeps every source at its start
+// (positions still set every block): the cost without filter updates.
+// --stop-below: a renderer is not run at larger N once its RTF fell below.
 #include <time.h>
 
 #include <CLI/CLI.hpp>
@@ -82,6 +85,7 @@ double source_gain(int n) { return 0.5 / std::sqrt(double(n)); }  // keeps the m
 
 struct Budget {
   double seconds, min_cpu;
+  bool still;  // sources stay at their t = 0 positions
 };
 
 /// Realtime factor of Earshot's Renderer with n moving sources.
@@ -106,7 +110,7 @@ double run_earshot(int n, const Budget& budget, const std::shared_ptr<const ears
   std::vector<float> left(kBlock), right(kBlock);
   std::size_t block = 0;
   auto step = [&] {
-    const double t = double(block * kBlock) / kRate;
+    const double t = budget.still ? 0.0 : double(block * kBlock) / kRate;
     for (int i = 0; i < n; ++i) {
       const auto k = std::size_t(i);
       s.position = path[k].position(t);
@@ -146,10 +150,10 @@ double run_openal(int n, const Budget& budget, const std::vector<std::vector<flo
   std::vector<float> left(kBlock), right(kBlock);
   std::size_t block = 0;
   auto step = [&] {
-    const double t = double(block * kBlock) / kRate;
+    const double t = budget.still ? 0.0 : double(block * kBlock) / kRate;
     for (int i = 0; i < n; ++i) {
       al.set_source_position(i, path[std::size_t(i)].position(t));
-      al.set_source_velocity(i, path[std::size_t(i)].velocity(t));
+      al.set_source_velocity(i, budget.still ? Vec3{0, 0, 0} : path[std::size_t(i)].velocity(t));
     }
     al.render(left, right);
     ++block;
@@ -168,7 +172,12 @@ double run_openal(int n, const Budget& budget, const std::vector<std::vector<flo
 /// The source count at realtime factor 1: CPU per second of audio (1/RTF)
 /// grows about linearly with N, so interpolate it between the bracketing
 /// counts, or extrapolate from the last two when every count is realtime.
-std::string sources_per_core(const std::vector<int>& ns, const std::vector<double>& rtf) {
+std::string sources_per_core(std::vector<int> ns, std::vector<double> rtf) {
+  while (!rtf.empty() && rtf.back() <= 0) {  // counts not run
+    rtf.pop_back();
+    ns.pop_back();
+  }
+  if (rtf.empty()) return "not run";
   char buf[160];
   if (rtf.front() < 1) {
     std::snprintf(buf, sizeof buf, "< %d (RTF %.2f at %d)", ns.front(), rtf.front(), ns.front());
@@ -202,13 +211,16 @@ int main(int argc, char** argv) {
   CLI::App app("Realtime factor of N moving HRTF sources: Earshot against OpenAL Soft");
   std::vector<int> ns{1, 8, 32, 64, 128, 256};
   std::optional<int> max_sources;
-  Budget budget{2.0, 1.0};
+  Budget budget{2.0, 1.0, false};
   int repeat = 3;
+  double stop_below = 0.2;
   app.add_option("--sources", ns, "source counts")->delimiter(',')->check(CLI::Range(1, 4096));
   app.add_option("--max-sources", max_sources, "leave out counts above this")->check(CLI::Range(1, 4096));
   app.add_option("--seconds", budget.seconds, "least audio per measurement")->check(CLI::Range(0.01, 600.0));
   app.add_option("--min-cpu", budget.min_cpu, "least CPU seconds per measurement")->check(CLI::Range(0.0, 600.0));
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
+  app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
+  app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
   CLI11_PARSE(app, argc, argv);
   std::sort(ns.begin(), ns.end());
   ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
@@ -222,26 +234,38 @@ int main(int argc, char** argv) {
     const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kRate));
     const auto loops = noise_loops();
     std::string al_hrtf;
-    std::vector<double> ear, oal;
+    std::vector<double> ear, oal;  // 0: not run
     for (int n : ns) {
+      const bool run_e = ear.empty() || ear.back() >= stop_below, run_o = oal.empty() || oal.back() >= stop_below;
       double best_e = 0, best_o = 0;
       for (int k = 0; k < repeat; ++k) {  // interleaved, so slow drifts in load hit both
-        best_e = std::max(best_e, run_earshot(n, budget, hrtf, loops));
-        best_o = std::max(best_o, run_openal(n, budget, loops, al_hrtf));
+        if (run_e) best_e = std::max(best_e, run_earshot(n, budget, hrtf, loops));
+        if (run_o) best_o = std::max(best_o, run_openal(n, budget, loops, al_hrtf));
       }
       ear.push_back(best_e);
       oal.push_back(best_o);
       std::fprintf(stderr, "render_throughput: %d sources done\n", n);
     }
 
-    std::printf("### Moving HRTF sources, %d Hz, %zu-frame blocks, one thread\n\n", kRate, kBlock);
+    std::printf("### %s HRTF sources, %d Hz, %zu-frame blocks, one thread\n\n", budget.still ? "Still" : "Moving", kRate,
+                kBlock);
     std::printf("Earshot: MIT KEMAR, %zu-tap filters. OpenAL Soft 1.19 HRTF data set: \"%s\". ", hrtf->filter_length(),
                 al_hrtf.c_str());
     std::printf("Realtime factor = seconds of audio per CPU second (best of %d; each >= %.2g s audio, >= %.2g CPU s).\n\n",
                 repeat, budget.seconds, budget.min_cpu);
-    std::printf("| sources | Earshot RTF | OpenAL Soft RTF | Earshot / OpenAL |\n|---|---|---|---|\n");
+    std::printf("| sources | Earshot RTF | OpenAL Soft RTF | Earshot / OpenAL | Earshot us per source-block |"
+                " OpenAL us per source-block |\n|---|---|---|---|---|---|\n");
+    auto cell = [](double v, const char* fmt) {
+      char buf[32];
+      if (v > 0) std::snprintf(buf, sizeof buf, fmt, v);
+      return v > 0 ? std::string(buf) : std::string("not run");
+    };
+    const double block_us = 1e6 * double(kBlock) / kRate;
     for (std::size_t k = 0; k < ns.size(); ++k)
-      std::printf("| %d | %.2f | %.2f | %.2f |\n", ns[k], ear[k], oal[k], ear[k] / oal[k]);
+      std::printf("| %d | %s | %s | %s | %s | %s |\n", ns[k], cell(ear[k], "%.2f").c_str(), cell(oal[k], "%.2f").c_str(),
+                  ear[k] > 0 && oal[k] > 0 ? cell(ear[k] / oal[k], "%.2f").c_str() : "-",
+                  cell(ear[k] > 0 ? block_us / (ear[k] * ns[k]) : 0, "%.2f").c_str(),
+                  cell(oal[k] > 0 ? block_us / (oal[k] * ns[k]) : 0, "%.2f").c_str());
     std::printf("\nSources per core at realtime factor 1: Earshot %s; OpenAL Soft %s.\n",
                 sources_per_core(ns, ear).c_str(), sources_per_core(ns, oal).c_str());
   } catch (const std::exception& e) {

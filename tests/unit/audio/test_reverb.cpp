@@ -1,0 +1,222 @@
+// Room reverbs: decay times, stereo decorrelation, stability of every
+// preset, no allocation in process(), and clear errors for bad presets and
+// parameters. RT60s are measured as tests/bench/reverb_decay does (T30).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "alloc_counter.hpp"
+#include "earshot/audio/room_presets.hpp"
+#include "earshot/audio/room_reverb.hpp"
+#include "earshot/errors.hpp"
+#include "reverb_measure.hpp"
+
+using namespace earshot::audio;
+namespace bench = earshot::bench;
+
+namespace {
+constexpr double kFs = 48000.0;
+constexpr std::size_t kBlock = 128;
+
+struct Ir {
+  std::vector<float> left, right;
+};
+
+// Feeds `in` (zero-padded to `frames`) through a fresh reverb.
+Ir render(const RoomParams& p, LateReverbType type, std::size_t frames, const std::vector<float>& in) {
+  RoomReverb reverb(kFs, kBlock, p, type);
+  Ir out{std::vector<float>(frames), std::vector<float>(frames)};
+  std::vector<float> x(kBlock), l(kBlock), r(kBlock);
+  for (std::size_t done = 0; done < frames; done += kBlock) {
+    for (std::size_t i = 0; i < kBlock; ++i) x[i] = done + i < in.size() ? in[done + i] : 0.0f;
+    reverb.process(x, l, r);
+    for (std::size_t i = 0; i < kBlock && done + i < frames; ++i) out.left[done + i] = l[i], out.right[done + i] = r[i];
+  }
+  return out;
+}
+
+Ir impulse_response(const RoomParams& p, LateReverbType type, double seconds) {
+  return render(p, type, static_cast<std::size_t>(seconds * kFs), {1.0f});
+}
+
+std::vector<float> noise(std::size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> v(n);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
+const char* name(LateReverbType t) { return t == LateReverbType::fdn ? "fdn" : "schroeder"; }
+}  // namespace
+
+TEST(RoomPresets, EveryRoomOfTable1IsThereAndInRange) {
+  const char* table1[] = {"generic", "padded-cell", "room", "small-room", "medium-room", "large-room",
+                          "bathroom", "living-room", "stone-room", "auditorium", "concert-hall", "cave",
+                          "arena", "hangar", "carpeted-hallway", "hallway", "stone-corridor", "medium-hall",
+                          "large-hall", "alley", "forest", "city", "mountains", "quarry", "plain",
+                          "parking-lot", "sewer-pipe", "underwater", "plate", "default", "musical-plate"};
+  for (const char* n : table1) {
+    SCOPED_TRACE(n);
+    EXPECT_NO_THROW(validate(room_preset(n)));
+  }
+  EXPECT_EQ(room_presets().size(), 29u);
+  EXPECT_DOUBLE_EQ(room_preset("concert-hall").decay_time_s, 3.92);
+  EXPECT_DOUBLE_EQ(room_preset("stone-corridor").decay_hf_ratio, 0.79);
+  EXPECT_DOUBLE_EQ(room_preset("default").decay_time_s, room_preset("generic").decay_time_s);
+}
+
+TEST(RoomPresets, UnknownNameIsAnInputErrorListingTheValidNames) {
+  try {
+    (void)room_preset("concert_hall");
+    FAIL() << "no error";
+  } catch (const earshot::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("'concert_hall'"), std::string::npos) << what;
+    EXPECT_NE(what.find("concert-hall"), std::string::npos) << what;
+    EXPECT_NE(what.find("padded-cell"), std::string::npos) << what;
+  }
+  EXPECT_THROW((void)late_reverb_type("moorer"), earshot::InputError);
+}
+
+TEST(RoomPresets, OutOfRangeParametersAreInputErrorsNamingTheField) {
+  auto expect_field = [](RoomParams p, const char* field) {
+    try {
+      validate(p);
+      ADD_FAILURE() << field << ": no error";
+    } catch (const earshot::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+    }
+  };
+  RoomParams p = room_preset("generic");
+  p.decay_time_s = 25.0;
+  expect_field(p, "decay_time_s");
+  p = room_preset("generic");
+  p.decay_hf_ratio = std::nan("");
+  expect_field(p, "decay_hf_ratio");
+  p = room_preset("generic");
+  p.reflections_delay_s = -0.001;
+  expect_field(p, "reflections_delay_s");
+  p = room_preset("generic");
+  p.wet_db = 30.0;
+  expect_field(p, "wet_db");
+
+  // The reverb refuses them too, and update() keeps the old parameters.
+  p = room_preset("generic");
+  p.late_reverb_gain = 11.0;
+  EXPECT_THROW(RoomReverb(kFs, kBlock, p), earshot::InputError);
+  RoomReverb reverb(kFs, kBlock, room_preset("room"));
+  EXPECT_THROW(reverb.update(p), earshot::InputError);
+  EXPECT_DOUBLE_EQ(reverb.params().decay_time_s, room_preset("room").decay_time_s);
+}
+
+// RT60 in the 500 Hz and 1 kHz octave bands within 5% of the preset's decay
+// time, and the high band's decay ratio within 10%.
+TEST(RoomReverb, DecayTimesMeetTheirTargets) {
+  struct Case {
+    const char* preset;
+    LateReverbType type;
+  };
+  for (const Case c : {Case{"generic", LateReverbType::fdn}, Case{"concert-hall", LateReverbType::fdn},
+                       Case{"room", LateReverbType::fdn}, Case{"stone-corridor", LateReverbType::schroeder}}) {
+    SCOPED_TRACE(std::string(c.preset) + " " + name(c.type));
+    RoomParams p = room_preset(c.preset);
+    p.gain_hf = 1.0;  // the high band must carry signal to be measured
+    const auto ir = impulse_response(p, c.type, 1.4 * p.decay_time_s + 0.3);
+    const auto t500 = bench::band_rt60(ir.left, ir.right, bench::octave(500), kFs);
+    const auto t1k = bench::band_rt60(ir.left, ir.right, bench::octave(1000), kFs);
+    const auto thf = bench::band_rt60(ir.left, ir.right, bench::third_octave(p.hf_reference_hz), kFs);
+    ASSERT_TRUE(t500 && t1k && thf);
+    EXPECT_NEAR(*t500 / p.decay_time_s, 1.0, 0.05);
+    EXPECT_NEAR(*t1k / p.decay_time_s, 1.0, 0.05);
+    EXPECT_NEAR(*thf / (0.5 * (*t500 + *t1k)) / p.decay_hf_ratio, 1.0, 0.10);
+  }
+}
+
+TEST(RoomReverb, LongerDecayTimeRingsLonger) {
+  RoomParams p = room_preset("generic");
+  p.decay_time_s = 0.5;
+  const auto a = impulse_response(p, LateReverbType::fdn, 1.0);
+  p.decay_time_s = 2.0;
+  const auto b = impulse_response(p, LateReverbType::fdn, 3.0);
+  const auto ta = bench::band_rt60(a.left, a.right, bench::octave(1000), kFs);
+  const auto tb = bench::band_rt60(b.left, b.right, bench::octave(1000), kFs);
+  ASSERT_TRUE(ta && tb);
+  EXPECT_GT(*tb, 3.5 * *ta);
+}
+
+TEST(RoomReverb, EarsAreDecorrelated) {
+  for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
+    SCOPED_TRACE(name(type));
+    const auto ir = impulse_response(room_preset("concert-hall"), type, 2.0);
+    // The tail after the early reflections.
+    const auto from = static_cast<std::size_t>(0.1 * kFs);
+    const auto ic = bench::interaural_coherence(std::span(ir.left).subspan(from), std::span(ir.right).subspan(from), kFs);
+    EXPECT_LT(ic, 0.2);
+  }
+}
+
+TEST(RoomReverb, FdnEchoDensityBuildsUpWithin100ms) {
+  const auto ir = impulse_response(room_preset("concert-hall"), LateReverbType::fdn, 1.0);
+  const auto t = bench::echo_density_time(ir.left, kFs);
+  ASSERT_TRUE(t);
+  EXPECT_LE(*t, 0.1);
+}
+
+// Every preset, both reverbs, noise in: output finite and bounded, and
+// silent again once the input stops and the tail has had 1.5 decay times.
+TEST(RoomReverb, EveryPresetIsStableAndFinite) {
+  const auto in = noise(static_cast<std::size_t>(0.5 * kFs), 3);
+  for (const auto& preset : room_presets()) {
+    for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
+      SCOPED_TRACE(std::string(preset.name) + " " + name(type));
+      const RoomParams& p = preset.params;
+      const double tail = p.decay_time_s * std::max(1.0, p.decay_hf_ratio);
+      const auto frames = static_cast<std::size_t>((0.5 + 0.4 + 1.5 * tail) * kFs);
+      const auto out = render(p, type, frames, in);
+      double peak = 0.0, end_peak = 0.0;
+      bool finite = true;
+      for (std::size_t i = 0; i < frames; ++i) {
+        const double m = std::max(std::abs(out.left[i]), std::abs(out.right[i]));
+        finite = finite && std::isfinite(out.left[i]) && std::isfinite(out.right[i]);
+        peak = std::max(peak, m);
+        if (i + static_cast<std::size_t>(0.05 * kFs) >= frames) end_peak = std::max(end_peak, m);
+      }
+      EXPECT_TRUE(finite);
+      EXPECT_LT(peak, 20.0);
+      EXPECT_GT(peak, 1e-3);
+      EXPECT_LT(end_peak, peak * 1e-3);  // more than 60 dB down after 1.5 decay times
+    }
+  }
+}
+
+TEST(RoomReverb, ProcessAndUpdateNeverAllocate) {
+  for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
+    SCOPED_TRACE(name(type));
+    RoomReverb reverb(kFs, kBlock, room_preset("generic"), type);
+    const auto in = noise(kBlock, 5);
+    std::vector<float> l(kBlock), r(kBlock);
+    const RoomParams& hall = room_preset("concert-hall");
+    earshot::testing::AllocationProbe probe;
+    for (int b = 0; b < 200; ++b) {
+      if (b == 100) reverb.update(hall);
+      reverb.process(in, l, r);
+    }
+    EXPECT_EQ(probe.count(), 0u);
+  }
+}
+
+TEST(RoomReverb, DryAndWetLevels) {
+  RoomParams p = room_preset("generic");
+  p.wet_db = -120.0;  // silent wet
+  p.dry_db = 0.0;
+  const auto in = noise(kBlock * 4, 9);
+  const auto out = render(p, LateReverbType::fdn, in.size(), in);
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    EXPECT_FLOAT_EQ(out.left[i], in[i]);
+    EXPECT_FLOAT_EQ(out.right[i], in[i]);
+  }
+}

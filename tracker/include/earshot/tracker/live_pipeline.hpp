@@ -1,0 +1,116 @@
+// The live tracker's per-event work, without the thread: source event in,
+// listener pose out. Pure and deterministic (time comes with the event), so
+// tests drive it frame by frame and the thread (live_tracker.hpp) stays thin.
+//
+//   camera frame -> drop impossible dots (NaN, outside the image)
+//                -> DotTracker (label -> solve -> filter, tracking/predicted/lost)
+//                -> level the camera with gravity (accelerometer, while still)
+//                -> relative to the pose captured at recenter
+//                -> audio world frame (OpenAL: +x right, +y up, -z ahead)
+//   direct pose  -> relative to the recenter pose (already in audio axes)
+//
+// States: searching (no pose since start), tracking, predicted (a short gap
+// bridged by the DotTracker), lost. When tracking is lost the listener pose
+// holds for `hold_s`, then eases to neutral (origin, looking ahead) over
+// `ease_s`; when tracking resumes it blends back in over `resume_s`. Nothing
+// jumps, and nothing non-finite comes out.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include "earshot/head_pose.hpp"
+#include "earshot/tracker/dot_tracker.hpp"
+#include "earshot/tracker/frame_source.hpp"
+
+namespace earshot::tracker {
+
+struct LiveConfig {
+  Camera camera = Camera::with_focal(1280.0);
+  LedModel model = LedModel::thesis();
+  TrackerConfig tracker{.filter = FilterKind::one_euro};
+  double hold_s = 0.5;     ///< lost: hold the last pose this long
+  double ease_s = 1.5;     ///< then ease to neutral over this long
+  double resume_s = 0.15;  ///< blend back to tracking over this long
+  std::uint16_t recenter_buttons = 0x0800 | 0x8000;  ///< wiimote::Buttons::a | home
+  bool level_from_accel = true;
+  int still_frames = 30;        ///< accelerometer steady this many frames = still
+  double still_tolerance_g = 0.02;
+};
+
+/// Rigid pose in the audio world frame, metres.
+struct WorldPose {
+  Mat3 R = Mat3::Identity();
+  Vec3 p = Vec3::Zero();
+};
+
+/// Camera frame (+x right, +y down, +z away from the camera) to the audio
+/// world frame of a listener facing the camera: right is the camera's -x, up
+/// its -y, ahead (-z) towards the camera.
+[[nodiscard]] Mat3 camera_to_audio();
+
+/// The rotation that turns `down` (gravity direction in the camera frame) into
+/// the camera's +y, by the shortest arc: levels a tilted camera.
+[[nodiscard]] Mat3 leveling_rotation(const Vec3& down);
+
+/// The Wii Remote accelerometer's axes (+x its left side, +y its back, +z out
+/// of the button face; at rest it reads +1 g upward) in the camera frame.
+[[nodiscard]] Vec3 remote_accel_to_camera(const Vec3& accel_remote_g);
+
+/// Head orientation from yaw, pitch, roll in radians (the audio convention:
+/// about +y, +x and -z, yaw first; positive yaw turns left, pitch looks up,
+/// roll tilts toward the right shoulder).
+[[nodiscard]] Quat audio_ypr(double yaw, double pitch, double roll);
+
+struct PipelineCounters {
+  std::uint64_t frames = 0, poses = 0, notes = 0;
+  std::uint64_t rejected_dots = 0;  ///< NaN or outside the image: never trusted
+};
+
+class LivePipeline {
+ public:
+  explicit LivePipeline(LiveConfig cfg = {});
+
+  /// One event in; the pose to publish (nullopt only for events that carry
+  /// no time). `now_s` is the source-clock time of a note (frames and poses
+  /// carry their own).
+  std::optional<HeadPose> process(const SourceEvent& e, double now_s);
+
+  /// The next camera frame or direct pose becomes the reference (neutral).
+  void request_recenter() { recenter_pending_ = true; }
+
+  [[nodiscard]] PoseState state() const { return state_; }
+  [[nodiscard]] const Mat3& leveling() const { return level_; }
+  [[nodiscard]] const PipelineCounters& counters() const { return counters_; }
+  [[nodiscard]] const TrackResult& last_track() const { return last_track_; }
+
+ private:
+  std::optional<HeadPose> on_frame(const CameraFrame& f);
+  std::optional<HeadPose> on_pose(const DirectPose& p);
+  HeadPose on_note(const SourceNote& n, double now);
+  void update_level(const Vec3& accel_cam_g);
+  /// World pose of a good measurement -> published pose (recenter, resume blend).
+  HeadPose good(double t, const WorldPose& head, PoseState s);
+  HeadPose lost_pose(double t);
+  HeadPose emit(double t, const WorldPose& w, PoseState s);
+
+  LiveConfig cfg_;
+  DotTracker tracker_;
+  TrackResult last_track_;
+  Mat3 level_ = Mat3::Identity();
+  Vec3 accel_mean_ = Vec3::Zero();
+  int still_count_ = 0;
+  std::uint16_t buttons_ = 0;
+  bool recenter_pending_ = false;
+  std::optional<WorldPose> reference_;  ///< the head pose captured at recenter
+  bool direct_ = false;                 ///< the reference is in audio axes already
+  PoseState state_ = PoseState::searching;
+  WorldPose out_;                       ///< the last published listener pose
+  double last_good_t_ = 0.0;
+  bool resuming_ = false;
+  double resume_t_ = 0.0;
+  WorldPose resume_from_;
+  PipelineCounters counters_;
+};
+
+}  // namespace earshot::tracker

@@ -1,0 +1,63 @@
+// The tracker thread: reads a FrameSource, runs the live pipeline
+// (live_pipeline.hpp) and publishes every pose into a PoseSlot, the only
+// link to the audio side. Starts in the constructor, stops in the destructor
+// (std::jthread: stop requested, then joined); a source that ends or fails
+// stops the thread by itself and says why in status().
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "earshot/pose_slot.hpp"
+#include "earshot/tracker/frame_source.hpp"
+#include "earshot/tracker/live_pipeline.hpp"
+
+namespace earshot::tracker {
+
+class LiveTracker {
+ public:
+  /// Called on the tracker thread after each publication (recording, UIs).
+  /// Keep it short: the next frame waits for it.
+  using PoseCallback = std::function<void(const HeadPose&)>;
+
+  struct Status {
+    PoseState state = PoseState::searching;
+    bool running = true;
+    std::uint64_t frames = 0, published = 0, dropped = 0, rejected_dots = 0;
+    std::string source;  ///< the source's describe()
+    std::string note;    ///< the last note from the source (connected, disconnected...)
+    std::string error;   ///< why the thread stopped, when a source failed
+  };
+
+  LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg = {},
+              PoseCallback on_pose = {});
+  ~LiveTracker();  ///< stops and joins
+  LiveTracker(const LiveTracker&) = delete;
+  LiveTracker& operator=(const LiveTracker&) = delete;
+
+  /// The next pose becomes neutral (any thread).
+  void recenter() { recenter_.store(true, std::memory_order_relaxed); }
+  /// Asks the thread to stop and waits for it (idempotent).
+  void stop();
+  [[nodiscard]] bool running() const { return running_.load(std::memory_order_acquire); }
+  [[nodiscard]] Status status() const;
+
+ private:
+  void run(std::stop_token stop);
+
+  std::unique_ptr<FrameSource> source_;
+  PoseSlot& slot_;
+  LivePipeline pipeline_;
+  PoseCallback on_pose_;
+  std::atomic<bool> recenter_{false};
+  std::atomic<bool> running_{true};
+  mutable std::mutex status_mutex_;  // guards status_ (never touched by the audio side)
+  Status status_;
+  std::jthread thread_;  // last: starts after everything above exists
+};
+
+}  // namespace earshot::tracker

@@ -1,0 +1,48 @@
+// A pose source fed by UDP datagrams (opentrack, OSC): each datagram is
+// decoded by a pure function; one that does not decode is counted and
+// dropped, never trusted. Times come from the steady clock at arrival.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+
+#include "earshot/tracker/frame_source.hpp"
+#include "earshot/tracker/udp_socket.hpp"
+
+namespace earshot::tracker {
+
+/// What one datagram asks for: a head pose (audio world frame, time unset)
+/// and/or a recenter.
+struct PoseMessage {
+  std::optional<DirectPose> pose;
+  bool recenter = false;
+};
+
+/// Decodes one datagram; nullopt with `why` set when it is malformed.
+using PacketDecoder = std::function<std::optional<PoseMessage>(std::span<const std::uint8_t>, std::string* why)>;
+
+/// Largest position accepted from a pose packet, metres: beyond is absurd.
+inline constexpr double kMaxPositionM = 10.0;
+
+class UdpPoseSource final : public FrameSource {
+ public:
+  /// `name` as in "opentrack" or "osc"; listens on 127.0.0.1 or every interface.
+  UdpPoseSource(std::string name, std::uint16_t port, bool all_interfaces, PacketDecoder decoder);
+  SourceEvent next(std::chrono::milliseconds timeout) override;
+  [[nodiscard]] std::string describe() const override { return name_ + ":" + std::to_string(socket_.port()); }
+  [[nodiscard]] std::uint64_t dropped() const override { return dropped_; }
+  [[nodiscard]] std::uint16_t port() const { return socket_.port(); }
+  [[nodiscard]] const std::string& last_error() const { return last_error_; }
+
+ private:
+  std::string name_;
+  UdpReceiver socket_;
+  PacketDecoder decoder_;
+  std::uint64_t dropped_ = 0;
+  std::string last_error_;
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+}  // namespace earshot::tracker

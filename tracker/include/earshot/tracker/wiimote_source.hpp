@@ -1,0 +1,70 @@
+// A live Wii Remote as a FrameSource, over any HidTransport.
+//
+// Connect: find 057e:0306 or 057e:0330 (not a Wii U Pro controller), open it,
+// light player LED 1, read the accelerometer calibration (EEPROM 0x16), run
+// the IR init sequence (wiimote_protocol.hpp) waiting for each register
+// write's acknowledgement. Then every IR data report becomes a CameraFrame
+// (dots, calibrated accelerometer in the camera frame, buttons). A read that
+// fails means the remote went away: the source says so and reconnects on its
+// own, every `retry_s`. Malformed reports are counted and dropped.
+//
+// With no remote at the first attempt it throws WiimoteError (with how to
+// pair one) instead of waiting forever; after a first connection it keeps
+// trying.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+
+#include "earshot/tracker/frame_source.hpp"
+#include "earshot/tracker/hid_transport.hpp"
+#include "earshot/tracker/wiimote_protocol.hpp"
+
+namespace earshot::tracker {
+
+class WiimoteError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct WiimoteOptions {
+  wiimote::IrMode mode = wiimote::IrMode::extended;
+  wiimote::IrSensitivity sensitivity = wiimote::IrSensitivity::level3;
+  double retry_s = 1.0;                                      ///< between reconnection attempts
+  std::chrono::milliseconds reply_timeout{500};              ///< for each ack / read reply
+  std::function<double()> clock;                             ///< seconds; default steady clock
+};
+
+/// The message for "no remote": how to pair one with BlueZ.
+[[nodiscard]] std::string no_wiimote_message();
+
+class WiimoteSource final : public FrameSource {
+ public:
+  explicit WiimoteSource(std::unique_ptr<HidTransport> transport, WiimoteOptions opt = {});
+  ~WiimoteSource() override;
+  SourceEvent next(std::chrono::milliseconds timeout) override;
+  [[nodiscard]] std::string describe() const override { return "wiimote"; }
+  [[nodiscard]] std::uint64_t dropped() const override { return dropped_; }
+  [[nodiscard]] bool connected() const { return connected_; }
+  [[nodiscard]] const wiimote::AccelCalibration& calibration() const { return cal_; }
+
+ private:
+  SourceEvent connect();
+  /// Sends the init sequence; false (with `why`) when the remote stops answering.
+  bool initialise(std::string& why);
+  /// Reads until `want` says yes or the reply timeout passes.
+  bool await(const std::function<bool(const wiimote::InputReport&)>& want);
+  SourceEvent lose(const std::string& why);
+  std::optional<SourceEvent> on_report(std::span<const std::uint8_t> bytes);
+
+  std::unique_ptr<HidTransport> hid_;
+  WiimoteOptions opt_;
+  bool connected_ = false, ever_connected_ = false;
+  double next_attempt_ = 0.0;
+  wiimote::AccelCalibration cal_;
+  std::array<std::optional<wiimote::IrDot>, 4> full_ir_{};  // first half of a full-format pair
+  std::uint64_t dropped_ = 0;
+};
+
+}  // namespace earshot::tracker

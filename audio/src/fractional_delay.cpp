@@ -1,16 +1,61 @@
 #include "earshot/audio/fractional_delay.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
+#include <numbers>
 
 namespace earshot::audio {
+namespace {
+
+constexpr std::size_t kTaps = FractionalDelay::kTaps;
+constexpr std::size_t kPhases = FractionalDelay::kPhases;
+constexpr double kHalf = kTaps / 2;
+constexpr double kBeta = 7.0;  // Kaiser window: sidelobes near -70 dB
+
+double bessel_i0(double x) {
+  double sum = 1.0, term = 1.0;
+  for (int k = 1; k < 40; ++k) {
+    term *= (x / (2.0 * k)) * (x / (2.0 * k));
+    sum += term;
+  }
+  return sum;
+}
+
+/// Row p holds the taps for a fraction p / kPhases, ordered from the oldest
+/// sample read to the newest, each row normalised to unit DC gain. Built once
+/// and never written again: shared by every delay line.
+const std::vector<float>& kernel_table() {
+  static const std::vector<float> table = [] {
+    std::vector<float> t((kPhases + 1) * kTaps);
+    for (std::size_t p = 0; p <= kPhases; ++p) {
+      const double frac = static_cast<double>(p) / kPhases;
+      std::array<double, kTaps> row{};
+      double sum = 0.0;
+      for (std::size_t i = 0; i < kTaps; ++i) {
+        // Tap i reads the sample (kHalf - i) older than the integer delay.
+        const double x = kHalf - static_cast<double>(i) - frac;
+        double sinc = 1.0;
+        if (x != 0.0) sinc = (x == std::round(x)) ? 0.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
+        const double r = x / kHalf;
+        const double w = std::abs(r) >= 1.0 ? 0.0 : bessel_i0(kBeta * std::sqrt(1.0 - r * r)) / bessel_i0(kBeta);
+        row[i] = sinc * w;
+        sum += row[i];
+      }
+      for (std::size_t i = 0; i < kTaps; ++i) t[p * kTaps + i] = static_cast<float>(row[i] / sum);
+    }
+    return t;
+  }();
+  return table;
+}
+
+}  // namespace
 
 FractionalDelay::FractionalDelay(std::size_t block, double max_delay_samples)
-    : max_delay_(std::max(kMinDelay, max_delay_samples)) {
-  const std::size_t need = block + static_cast<std::size_t>(std::ceil(max_delay_)) + 4;
-  ring_.assign(std::bit_ceil(need), 0.0f);
-  mask_ = ring_.size() - 1;
+    : max_delay_(std::max(kMinDelay, max_delay_samples)), kernels_(kernel_table().data()) {
+  size_ = std::bit_ceil(block + static_cast<std::size_t>(std::ceil(max_delay_)) + kTaps + 2);
+  ring_.assign(size_ + kTaps, 0.0f);
 }
 
 void FractionalDelay::reset() {
@@ -21,24 +66,23 @@ void FractionalDelay::reset() {
 void FractionalDelay::process(std::span<const float> in, std::span<float> out, double delay_samples) {
   const double target = std::clamp(std::isfinite(delay_samples) ? delay_samples : kMinDelay, kMinDelay, max_delay_);
   const double start = delay_ < 0.0 ? target : delay_;
-  const std::size_t n = in.size();
+  const std::size_t n = in.size(), mask = size_ - 1;
   const double step = (target - start) / static_cast<double>(n);
   for (std::size_t i = 0; i < n; ++i) {
     ring_[write_] = in[i];
+    if (write_ < kTaps) ring_[size_ + write_] = in[i];  // the mirror keeps every read contiguous
     const double d = start + step * static_cast<double>(i + 1);
-    // Read position write_ - d, between samples x1 = floor and x2 = x1 + 1.
-    const double ipart = std::floor(d);
-    const double f = 1.0 - (d - ipart);  // fraction from x1 towards x2
-    const std::size_t base = write_ - static_cast<std::size_t>(ipart) - 1;  // x1 (wraps via mask)
-    const float x0 = ring_[(base - 1) & mask_], x1 = ring_[base & mask_];
-    const float x2 = ring_[(base + 1) & mask_], x3 = ring_[(base + 2) & mask_];
-    // 4-point, 3rd-order Lagrange at position f in [0, 1) from x1.
-    const double c0 = -f * (f - 1) * (f - 2) / 6.0;
-    const double c1 = (f + 1) * (f - 1) * (f - 2) / 2.0;
-    const double c2 = -(f + 1) * f * (f - 2) / 2.0;
-    const double c3 = (f + 1) * f * (f - 1) / 6.0;
-    out[i] = static_cast<float>(c0 * x0 + c1 * x1 + c2 * x2 + c3 * x3);
-    write_ = (write_ + 1) & mask_;
+    auto whole = static_cast<std::size_t>(d);
+    auto phase = static_cast<std::size_t>(std::lround((d - static_cast<double>(whole)) * kPhases));
+    if (phase == kPhases) phase = 0, ++whole;
+    // Oldest sample the kernel reads: kHalf samples before the integer delay.
+    const std::size_t first = (write_ + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
+    const float* x = ring_.data() + first;
+    const float* k = kernels_ + phase * kTaps;
+    float acc = 0.0f;
+    for (std::size_t t = 0; t < kTaps; ++t) acc += k[t] * x[t];
+    out[i] = acc;
+    write_ = (write_ + 1) & mask;
   }
   delay_ = target;
 }

@@ -102,6 +102,23 @@ TEST(FractionalDelay, FractionalDelayOfASine) {
   EXPECT_LT(err, 1e-3);
 }
 
+TEST(FractionalDelay, FlatToSixteenKilohertzAtEveryFraction) {
+  // A fractional read must not low-pass: one ear at a half-sample fraction
+  // and the other at a whole one would otherwise change the rendered ILD.
+  for (double frac : {0.0, 0.25, 0.5, 0.73}) {
+    for (double hz : {1000.0, 8000.0, 16000.0}) {
+      const double f = hz / 48000.0, d = 20.0 + frac;
+      std::vector<float> x(9600), y(9600);
+      for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(std::sin(2 * std::numbers::pi * f * double(i)));
+      FractionalDelay line(64, 64);
+      for (std::size_t b = 0; b < x.size(); b += 64) line.process(std::span(x).subspan(b, 64), std::span(y).subspan(b, 64), d);
+      double ex = 0, ey = 0;
+      for (std::size_t i = 200; i < x.size(); ++i) ex += double(x[i]) * x[i], ey += double(y[i]) * y[i];
+      EXPECT_NEAR(10 * std::log10(ey / ex), 0.0, 0.1) << hz << " Hz, fraction " << frac;
+    }
+  }
+}
+
 TEST(DspUnits, NoHeapAllocationPerBlock) {
   const std::size_t B = 128;
   BinauralConvolver conv(B, 558);

@@ -1,10 +1,15 @@
 // A delay line read at a fractional, moving delay: the ITD and propagation
 // delay of one source and ear. The delay glides linearly from the previous
 // block's value to the new one across each block (a smoothed change: no
-// click, and a changing delay bends the pitch as Doppler does). Reads use
-// 4-point Lagrange (cubic) interpolation, which needs two samples ahead: the
-// delay is never less than kMinDelay samples (a fixed latency callers add).
-// Allocates at construction only.
+// click, and a changing delay bends the pitch as Doppler does).
+//
+// Reads are band-limited: a 16-tap Kaiser-windowed sinc, its fractional
+// phase taken from a table of 1024 phases. Its response is flat to within
+// 0.1 dB up to 16 kHz at 48 kHz for every fraction, so a fractional delay
+// never low-passes one ear more than the other (a cubic Lagrange read did,
+// which shrank the rendered ILD by up to 0.4 dB). The kernel reaches eight
+// samples ahead: the delay is never less than kMinDelay samples (a fixed
+// latency callers add). Allocates at construction only.
 #pragma once
 
 #include <span>
@@ -14,7 +19,9 @@ namespace earshot::audio {
 
 class FractionalDelay {
  public:
-  static constexpr double kMinDelay = 2.0;
+  static constexpr double kMinDelay = 8.0;
+  static constexpr std::size_t kTaps = 16;
+  static constexpr std::size_t kPhases = 1024;
 
   FractionalDelay(std::size_t block, double max_delay_samples);
 
@@ -25,11 +32,12 @@ class FractionalDelay {
   [[nodiscard]] double max_delay() const { return max_delay_; }
 
  private:
-  std::vector<float> ring_;
-  std::size_t mask_;
+  std::vector<float> ring_;  // size_ samples plus a mirror of the first kTaps
+  std::size_t size_;
   std::size_t write_ = 0;
   double max_delay_;
   double delay_ = -1.0;  // previous block's delay; < 0 before the first block
+  const float* kernels_;  // kPhases + 1 rows of kTaps, shared and immutable
 };
 
 }  // namespace earshot::audio

@@ -46,14 +46,58 @@ std::string mysofa_error_text(int err) {
   throw InputError::at(p.string(), 0, "", what);
 }
 
-/// First sample reaching -20 dB of the peak.
-std::size_t onset_of(std::span<const float> h) {
+/// Where |h| first reaches -20 dB of its peak, in fractional samples: the
+/// crossing is interpolated linearly between the two samples around it, so
+/// neighbouring measurements' onsets (and so their ITDs) are not rounded to
+/// whole samples.
+double onset_of(std::span<const float> h) {
   float peak = 0.0f;
   for (float v : h) peak = std::max(peak, std::abs(v));
-  if (peak <= 0.0f) return 0;
-  for (std::size_t i = 0; i < h.size(); ++i)
-    if (std::abs(h[i]) >= 0.1f * peak) return i;
-  return 0;
+  if (peak <= 0.0f) return 0.0;
+  const float level = 0.1f * peak;
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    const float a = std::abs(h[i]);
+    if (a < level) continue;
+    if (i == 0) return 0.0;
+    const float b = std::abs(h[i - 1]);
+    return static_cast<double>(i - 1) + static_cast<double>((level - b) / (a - b));
+  }
+  return 0.0;
+}
+
+/// out[i] = h(i + shift): h read `shift` samples later, band-limited (a
+/// Kaiser-windowed sinc of 64 taps; samples beyond h are zero). Load time only.
+void shift_earlier(std::span<const float> h, double shift, std::span<float> out) {
+  constexpr int kHalf = 32;
+  constexpr double kBeta = 8.0;
+  auto i0 = [](double x) {
+    double sum = 1.0, term = 1.0;
+    for (int k = 1; k < 40; ++k) {
+      term *= (x / (2.0 * k)) * (x / (2.0 * k));
+      sum += term;
+    }
+    return sum;
+  };
+  const double whole = std::floor(shift), frac = shift - whole;
+  std::array<double, 2 * kHalf> taps{};
+  double sum = 0.0;
+  for (int j = -kHalf + 1; j <= kHalf; ++j) {  // tap j weighs h[i + whole + j]
+    const double x = static_cast<double>(j) - frac;
+    const double sinc = x == 0.0 ? 1.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
+    const double r = x / kHalf;
+    const double w = std::abs(r) >= 1.0 ? 0.0 : i0(kBeta * std::sqrt(1.0 - r * r)) / i0(kBeta);
+    taps[static_cast<std::size_t>(j + kHalf - 1)] = frac == 0.0 ? (j == 0 ? 1.0 : 0.0) : sinc * w;
+    sum += taps[static_cast<std::size_t>(j + kHalf - 1)];
+  }
+  const auto n = static_cast<long>(h.size());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    double acc = 0.0;
+    for (int j = -kHalf + 1; j <= kHalf; ++j) {
+      const long k = static_cast<long>(i) + static_cast<long>(whole) + j;
+      if (k >= 0 && k < n) acc += taps[static_cast<std::size_t>(j + kHalf - 1)] * h[static_cast<std::size_t>(k)];
+    }
+    out[i] = static_cast<float>(acc / sum);
+  }
 }
 
 }  // namespace
@@ -159,23 +203,31 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     if (d.elements == 2 * M) return d.values[2 * m + ear] * sample_rate / file_rate;
     return 0.0;
   };
-  // Each ear's filter is its HRIR from two samples before its onset on;
-  // the delay is that integer shift, so filter + delay = the measured HRIR.
-  constexpr std::size_t kMargin = 2;
+  // Each ear's filter is its HRIR read from two samples before its
+  // (fractional) onset on, and the delay is that shift: filter + delay give
+  // back the measured HRIR, and every filter has its onset at the same
+  // place, so blending neighbours adds aligned responses, not combs.
+  constexpr double kMargin = 2.0;
   double min_delay = std::numeric_limits<double>::infinity();
   std::vector<std::array<double, 2>> raw(M);
   for (std::size_t m = 0; m < M; ++m)
     for (std::size_t ear = 0; ear < 2; ++ear) {
       const std::span<const float> hrir(set.hrirs_.data() + (2 * m + ear) * N, N);
-      const std::size_t onset = onset_of(hrir);
-      const std::size_t shift = onset > kMargin ? onset - kMargin : 0;
-      float* f = set.filters_.data() + (2 * m + ear) * N;
-      std::copy(hrir.begin() + static_cast<std::ptrdiff_t>(shift), hrir.end(), f);
-      raw[m][ear] = static_cast<double>(shift) + file_delay(m, ear);
+      const double shift = std::max(0.0, onset_of(hrir) - kMargin);
+      shift_earlier(hrir, shift, std::span<float>(set.filters_.data() + (2 * m + ear) * N, N));
+      raw[m][ear] = shift + file_delay(m, ear);
       min_delay = std::min(min_delay, raw[m][ear]);
     }
-  for (std::size_t m = 0; m < M; ++m)
+  set.removed_delay_s_ = min_delay / sample_rate;
+  set.energies_.resize(M);
+  for (std::size_t m = 0; m < M; ++m) {
     set.delays_[m] = {(raw[m][0] - min_delay) / sample_rate, (raw[m][1] - min_delay) / sample_rate};
+    for (std::size_t ear = 0; ear < 2; ++ear) {
+      double e = 0.0;
+      for (float v : set.filter(m, static_cast<Ear>(ear))) e += double(v) * v;
+      set.energies_[m][ear] = std::max(e, 1e-30);  // log-safe for a silent ear
+    }
+  }
   try {
     set.triangulation_ = std::make_shared<const SphereTriangulation>(unit);
   } catch (const std::invalid_argument& e) {
@@ -191,6 +243,7 @@ Delays HrtfSet::lookup(double azimuth, double elevation, std::span<float> left, 
   std::fill(right.begin(), right.end(), 0.0f);
   Delays out;
   const std::size_t n = std::min({length_, left.size(), right.size()});
+  std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies
   for (std::size_t k = 0; k < 3; ++k) {
     const auto w = static_cast<float>(b.weight[k]);
     if (w == 0.0f) continue;
@@ -203,6 +256,21 @@ Delays HrtfSet::lookup(double azimuth, double elevation, std::span<float> left, 
     }
     out.left_s += b.weight[k] * delays_[m].left_s;
     out.right_s += b.weight[k] * delays_[m].right_s;
+    log_energy[0] += b.weight[k] * std::log(energies_[m][0]);
+    log_energy[1] += b.weight[k] * std::log(energies_[m][1]);
+  }
+  // Summing responses that differ in fine structure loses energy mid-way
+  // between measurements (most in the shadowed ear), which would make the
+  // ILD dip and bump as a source moves. Each ear is rescaled to the energy
+  // interpolated in dB, so the broadband level moves smoothly.
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const std::span<float> f = ear == 0 ? left : right;
+    double e = 0.0;
+    for (std::size_t i = 0; i < n; ++i) e += double(f[i]) * f[i];
+    if (e > 0.0) {
+      const auto g = static_cast<float>(std::sqrt(std::exp(log_energy[ear]) / e));
+      for (std::size_t i = 0; i < n; ++i) f[i] *= g;
+    }
   }
   if (parametric_radius_) {
     const double mid = 0.5 * (out.left_s + out.right_s);

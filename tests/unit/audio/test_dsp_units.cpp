@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <mutex>
+
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -141,4 +143,11 @@ TEST(DspUnits, TheAllocationProbeSeesAllocations) {
   keep = new int[10];
   delete[] keep;
   EXPECT_GE(probe.count(), 1u);
+}
+
+TEST(DspUnits, TheProbeSeesALock) {
+  std::mutex m;
+  earshot::testing::AllocationProbe probe;
+  { const std::lock_guard hold(m); }
+  EXPECT_GE(probe.lock_count(), 1u);
 }

@@ -62,7 +62,7 @@ SourceEvent WiimoteSource::connect() {
   next_attempt_ = opt_.clock() + opt_.retry_s;
   std::vector<HidDeviceInfo> found;
   for (auto& d : hid_->enumerate(w::kVendorNintendo, kProducts))
-    if (d.product_name.find("Pro Controller") == std::string::npos) found.push_back(d);  // Wii U Pro shares 0330
+    if (d.product_name.find("-UC") == std::string::npos) found.push_back(d);  // the Wii U Pro (RVL-CNT-01-UC) shares 0330
   if (found.empty()) {
     if (!ever_connected_) throw WiimoteError(no_wiimote_message());
     return make_note(SourceNote::Kind::timeout);

@@ -42,10 +42,11 @@ HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
 }
 
 struct Renderer::Voice {
-  Voice(std::size_t block, std::size_t filter_len, double max_delay)
-      : conv(block, filter_len), delay_l(block, max_delay), delay_r(block, max_delay),
+  Voice(std::size_t block, std::size_t filter_len, double max_delay, double rate)
+      : air(rate), conv(block, filter_len), delay_l(block, max_delay), delay_r(block, max_delay),
         input(block, 0.0f), fl(filter_len), fr(filter_len), wet_l(block), wet_r(block), out_l(block), out_r(block) {}
   SourceState state;
+  AirAbsorption air;
   BinauralConvolver conv;
   FractionalDelay delay_l, delay_r;
   std::vector<float> input, fl, fr, wet_l, wet_r, out_l, out_r;
@@ -65,7 +66,7 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
-    voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay));
+    voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay, cfg_.sample_rate));
   for (auto* v : {&send_, &ret_l_, &ret_r_, &mix_l_, &mix_r_}) v->assign(cfg_.block, 0.0f);
 }
 
@@ -77,6 +78,7 @@ int Renderer::add_source(const SourceState& s) {
   v.state = s;
   v.gain = -1.0;
   v.azimuth = v.elevation = 1e9;
+  v.air.reset();
   v.conv.reset();
   v.delay_l.reset();
   v.delay_r.reset();
@@ -119,6 +121,8 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     const double g0 = v.gain < 0.0 ? g : v.gain;
     v.gain = g;
 
+    v.air.update(hr.distance, v.state.air_absorption);
+    v.air.process(v.input);
     v.conv.process(v.input, v.wet_l, v.wet_r);
     v.delay_l.process(v.wet_l, v.out_l, FractionalDelay::kMinDelay + prop + d.left_s * cfg_.sample_rate);
     v.delay_r.process(v.wet_r, v.out_r, FractionalDelay::kMinDelay + prop + d.right_s * cfg_.sample_rate);

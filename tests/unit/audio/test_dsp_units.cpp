@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "earshot/audio/air_absorption.hpp"
 #include "earshot/audio/binaural_convolver.hpp"
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/audio/real_fft.hpp"
@@ -150,4 +151,34 @@ TEST(DspUnits, TheProbeSeesALock) {
   earshot::testing::AllocationProbe probe;
   { const std::lock_guard hold(m); }
   EXPECT_GE(probe.lock_count(), 1u);
+}
+
+namespace {
+/// Gain in dB that `air` gives a sine of `hz` (after it settles).
+double air_gain_db(earshot::audio::AirAbsorption& air, double hz) {
+  std::vector<float> x(4800);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(std::sin(2 * std::numbers::pi * hz * double(i) / 48000.0));
+  std::vector<float> y = x;
+  for (std::size_t b = 0; b < y.size(); b += 48) air.process(std::span(y).subspan(b, 48));
+  double ex = 0, ey = 0;
+  for (std::size_t i = 960; i < x.size(); ++i) ex += double(x[i]) * x[i], ey += double(y[i]) * y[i];
+  return 10 * std::log10(ey / ex);
+}
+}  // namespace
+
+TEST(AirAbsorption, HighsFallWithDistanceAsOpenAlSays) {
+  using earshot::audio::AirAbsorption;
+  AirAbsorption air(48000.0);
+  air.update(100.0, 0.0);  // factor 0: untouched
+  EXPECT_NEAR(air_gain_db(air, 12000), 0.0, 1e-6);
+  air.update(100.0, 1.0);  // 0.99426^100: -5.0 dB in the high band
+  const double hf = 20 * std::log10(std::pow(AirAbsorption::kGainPerMetre, 100.0));
+  EXPECT_NEAR(hf, -5.0, 0.05);
+  EXPECT_NEAR(air_gain_db(air, 16000), hf, 0.5);
+  EXPECT_NEAR(air_gain_db(air, 100), 0.0, 0.1);
+  air.update(400.0, 1.0);  // -20 dB in the high band
+  EXPECT_LT(air_gain_db(air, 16000), 3 * hf);
+  EXPECT_NEAR(air_gain_db(air, 100), 0.0, 0.1);
+  air.update(NAN, 1.0);  // bad numbers stop here
+  EXPECT_NEAR(air_gain_db(air, 16000), 0.0, 0.01);
 }

@@ -3,7 +3,8 @@
 //   direction and distance relative to the head -> HRTF lookup (filters,
 //   ITD) -> partitioned convolution, crossfaded when the filter changes ->
 //   per-ear fractional delay (ITD + propagation delay: a moving source's
-//   changing delay is its Doppler shift) -> distance gain -> mix.
+//   changing delay is its Doppler shift) -> distance gain -> mix. Air
+//   absorption (a distance-dependent high shelf) filters the source first.
 // Each source also feeds a mono reverb send bus (the reverb is separate).
 // The mix goes through the master gain and a peak limiter, so the output
 // never exceeds full scale and never holds NaN or infinity.
@@ -21,6 +22,7 @@
 #include <span>
 #include <vector>
 
+#include "earshot/audio/air_absorption.hpp"
 #include "earshot/audio/binaural_convolver.hpp"
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
@@ -52,6 +54,7 @@ struct SourceState {
   double gain = 1.0;
   DistanceParams distance{};
   double reverb_send = 0.0;  ///< linear gain into the reverb bus
+  double air_absorption = 0.0;  ///< OpenAL's air absorption factor (0..10)
   bool relative = false;     ///< position relative to the listener
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace earshot::audio {
@@ -53,6 +54,7 @@ struct Renderer::Voice {
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
   double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
   hrtf::Delays delays{};
+  std::optional<Vec3> moved_from;  // the source's position in the previous block
 };
 
 Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg)
@@ -78,6 +80,7 @@ int Renderer::add_source(const SourceState& s) {
   v.state = s;
   v.gain = -1.0;
   v.azimuth = v.elevation = 1e9;
+  v.moved_from.reset();
   v.air.reset();
   v.conv.reset();
   v.delay_l.reset();
@@ -116,7 +119,20 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
       v.elevation = hr.elevation;
     }
     const hrtf::Delays d = v.delays;
-    const double prop = cfg_.doppler_factor * hr.distance / cfg_.speed_of_sound * cfg_.sample_rate;
+    // Propagation delay to the listener's ear now from where the source was
+    // when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
+    // the source's own motion changes the distance. Gliding the delay line
+    // by that gives OpenAL's Doppler shift, f (c - DF v_l) / (c - DF v_s).
+    double rate_src = 0.0;
+    if (v.moved_from) {
+      const Vec3& p = *v.moved_from;
+      const double dx = p[0] - frame.position[0], dy = p[1] - frame.position[1], dz = p[2] - frame.position[2];
+      rate_src = (hr.distance - std::sqrt(dx * dx + dy * dy + dz * dz)) * cfg_.sample_rate / static_cast<double>(B);
+    }
+    v.moved_from = v.state.position;
+    const double c = cfg_.speed_of_sound;
+    const double approach = std::max(cfg_.doppler_factor * rate_src, -0.5 * c);  // no sonic booms
+    const double prop = cfg_.doppler_factor * hr.distance / (c + approach) * cfg_.sample_rate;
     const double g = v.state.gain * distance_gain(hr.distance, v.state.distance) * listener.gain;
     const double g0 = v.gain < 0.0 ? g : v.gain;
     v.gain = g;

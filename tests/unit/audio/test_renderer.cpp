@@ -283,3 +283,47 @@ TEST(Renderer, AFastHeadTurnDoesNotClick) {
   EXPECT_LT(el, -60.0);
   EXPECT_LT(er, -60.0);
 }
+
+namespace {
+/// Frequency (Hz) of a tone from its rising zero crossings, interpolated.
+double tone_hz(std::span<const float> x, double rate) {
+  double first = -1, last = -1;
+  int crossings = 0;
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i - 1] < 0 && x[i] >= 0) {
+      const double t = double(i - 1) + x[i - 1] / (x[i - 1] - x[i]);
+      if (first < 0) first = t;
+      else ++crossings;
+      last = t;
+    }
+  return crossings * rate / (last - first);
+}
+
+/// A 1 kHz tone from a source approaching head-on at `speed` m/s.
+double approaching_tone_hz(double speed, double doppler_factor) {
+  RendererConfig cfg;
+  cfg.doppler_factor = doppler_factor;
+  Renderer r(kemar(), cfg);
+  SourceState src;
+  src.distance.model = DistanceModel::none;
+  const int id = r.add_source(src);
+  std::vector<float> left, l(r.block()), rr(r.block());
+  std::size_t n = 0;
+  for (int b = 0; b < 48000 / 128; ++b) {
+    src.position = {0, 0, -(60.0 - speed * double(n) / 48000.0)};
+    r.set_source(id, src);
+    for (float& x : r.source_input(id)) x = 0.1f * float(std::sin(2 * std::numbers::pi * 1000.0 * double(n++) / 48000.0));
+    r.render(l, rr);
+    left.insert(left.end(), l.begin(), l.end());
+  }
+  return tone_hz(std::span<const float>(left).subspan(24000), 48000.0);
+}
+}  // namespace
+
+TEST(Renderer, AMovingSourceIsDopplerShiftedAsOpenAlComputesIt) {
+  // OpenAL: f' = f (c - DF vl) / (c - DF vs), here vl = 0, vs = 20 m/s towards.
+  const double c = RendererConfig{}.speed_of_sound;
+  EXPECT_NEAR(approaching_tone_hz(20.0, 1.0), 1000.0 * c / (c - 20.0), 0.5);
+  EXPECT_NEAR(approaching_tone_hz(20.0, 2.0), 1000.0 * c / (c - 40.0), 0.5);
+  EXPECT_NEAR(approaching_tone_hz(20.0, 0.0), 1000.0, 0.05);
+}

@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "earshot/audio/room_presets.hpp"
 #include "earshot/errors.hpp"
 
 namespace earshot::scenes {
@@ -119,7 +120,16 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   s.duration_s = f.number("duration_s", 5.0, 0.0, 3600.0);
   s.sample_rate = f.number("sample_rate", 48000.0, 8000.0, 192000.0);
   s.room = f.text("room", "none");
-  if (s.room != "none") f.fail("room", "unknown room preset '" + s.room + "' (available: none)");
+  if (s.room != "none") {
+    try {
+      (void)audio::room_preset(s.room);
+    } catch (const InputError&) {
+      f.fail("room", "unknown room preset '" + s.room + "' (available: none, " + audio::room_preset_names() + ")");
+    }
+  }
+  s.reverb = f.text("reverb", "fdn");
+  if (s.reverb != "fdn" && s.reverb != "schroeder")
+    f.fail("reverb", "unknown reverb '" + s.reverb + "' (available: fdn, schroeder)");
   if (f.has("listener")) {
     Fields l(f.at("listener"), origin, "listener");
     s.listener.position = l.vec3("position", {0, 0, 0});

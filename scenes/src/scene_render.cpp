@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "earshot/audio/renderer.hpp"
+#include "earshot/audio/room_reverb.hpp"
 #include "earshot/errors.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/scenes/pose_track.hpp"
@@ -46,6 +47,10 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
     st.reverb_send = s.reverb_send_db <= -120 ? 0.0 : db(s.reverb_send_db);
     ids.push_back(renderer.add_source(st));
   }
+  // The room: the renderer's send bus through the reverb, back into the next block's mix.
+  std::optional<audio::RoomReverb> room;
+  if (scene.room != "none")
+    room.emplace(rate, opt.block, audio::room_preset(scene.room), audio::late_reverb_type(scene.reverb));
   audio::ListenerState fixed;
   fixed.position = scene.listener.position;
   fixed.orientation = audio::quat_from_ypr(scene.listener.yaw_deg * kDeg, scene.listener.pitch_deg * kDeg,
@@ -68,6 +73,7 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
     renderer.set_listener(track ? track->at(t) : fixed);
     for (std::size_t i = 0; i < ids.size(); ++i) signals[i].generate(renderer.source_input(ids[i]));
     renderer.render(l, r);
+    if (room) room->process(renderer.reverb_send(), renderer.return_left(), renderer.return_right());
     const std::size_t n = std::min(opt.block, total - done);
     for (std::size_t i = 0; i < n; ++i) {
       inter[2 * i] = l[i];

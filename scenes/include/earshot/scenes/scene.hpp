@@ -1,5 +1,5 @@
 // Scene JSON: what `earshot render` plays (contract in docs/ARCHITECTURE.md).
-//   {"duration_s": 5, "sample_rate": 48000, "room": "none",
+//   {"duration_s": 5, "sample_rate": 48000, "room": "none", "reverb": "fdn",
 //    "listener": {"position": [0,0,0], "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0},
 //    "pose_track": "poses.csv",                       (optional)
 //    "sources": [{"name": "n", "signal": {"type": "noise", "seed": 1},
@@ -7,6 +7,9 @@
 //                 "reference_distance": 1, "rolloff": 1, "max_distance": 100,
 //                 "reverb_send_db": -120}]}
 // Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path}.
+// room: "none" or a room preset (audio/room_presets.hpp, e.g. "concert-hall");
+// reverb: its late reverb, "fdn" (default) or "schroeder". Sources reach it
+// through reverb_send_db.
 // Unknown fields are errors; every error names the file and the field.
 // Relative paths inside a scene are relative to the scene file.
 #pragma once
@@ -47,7 +50,8 @@ struct SceneListener {
 struct Scene {
   double duration_s = 5.0;
   double sample_rate = 48000.0;
-  std::string room = "none";
+  std::string room = "none";    ///< "none" or a room preset name
+  std::string reverb = "fdn";   ///< late reverb of the room: "fdn" or "schroeder"
   SceneListener listener;
   std::optional<std::filesystem::path> pose_track;
   std::vector<SceneSource> sources;

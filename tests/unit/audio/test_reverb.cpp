@@ -1,17 +1,22 @@
-// Room reverbs: decay times, stereo decorrelation, stability of every
-// preset, no allocation in process(), and clear errors for bad presets and
-// parameters. RT60s are measured as tests/bench/reverb_decay does (T30).
+// Room reverbs: decay times, levels, stereo decorrelation, stability of
+// every preset, no allocation in process(), clear errors for bad presets and
+// parameters, and the room's wiring (renderer send/return, Scene JSON). RT60s are measured as tests/bench/reverb_decay does (T30).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "alloc_counter.hpp"
+#include "earshot/audio/renderer.hpp"
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/audio/room_reverb.hpp"
 #include "earshot/errors.hpp"
+#include "earshot/hrtf/hrtf_set.hpp"
+#include "earshot/scenes/scene.hpp"
 #include "reverb_measure.hpp"
 
 using namespace earshot::audio;
@@ -219,4 +224,69 @@ TEST(RoomReverb, DryAndWetLevels) {
     EXPECT_FLOAT_EQ(out.left[i], in[i]);
     EXPECT_FLOAT_EQ(out.right[i], in[i]);
   }
+}
+
+// Table 1: "0 dB gives a reverb tail with roughly the same energy as the input".
+TEST(RoomReverb, LateLevelFollowsLateReverbGain) {
+  for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
+    SCOPED_TRACE(name(type));
+    RoomParams p = room_preset("concert-hall");
+    p.gain = 1.0, p.gain_hf = 1.0, p.reflections_gain = 0.0;
+    double energy[2] = {};
+    for (int k = 0; k < 2; ++k) {
+      p.late_reverb_gain = k == 0 ? 1.0 : 0.5;
+      const auto ir = impulse_response(p, type, 6.0);
+      for (std::size_t i = 0; i < ir.left.size(); ++i) energy[k] += 0.5 * (ir.left[i] * ir.left[i] + ir.right[i] * ir.right[i]);
+    }
+    EXPECT_NEAR(10 * std::log10(energy[0]), 0.0, 2.0);                // unit impulse in: about 0 dB out per ear
+    EXPECT_NEAR(10 * std::log10(energy[1] / energy[0]), -6.02, 0.1);  // level is a plain gain
+  }
+}
+
+// The renderer's send bus through the room and back, as `earshot render` wires it:
+// an impulse from a source with its send open rings on after the direct sound.
+TEST(RoomReverb, RendererSendAndReturn) {
+  auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kFs));
+  double tail[2] = {};
+  for (int with_room = 0; with_room < 2; ++with_room) {
+    RendererConfig cfg;
+    cfg.block = kBlock;
+    Renderer renderer(hrtf, cfg);
+    SourceState s;
+    s.position = {1.0, 0.0, -2.0};
+    s.reverb_send = 1.0;
+    const int id = renderer.add_source(s);
+    RoomReverb room(kFs, kBlock, room_preset("concert-hall"));
+    std::vector<float> l(kBlock), r(kBlock);
+    for (int b = 0; b < 400; ++b) {  // ~1 s
+      auto in = renderer.source_input(id);
+      std::fill(in.begin(), in.end(), 0.0f);
+      if (b == 0) in[0] = 1.0f;
+      renderer.render(l, r);
+      if (with_room) room.process(renderer.reverb_send(), renderer.return_left(), renderer.return_right());
+      if (b >= 100)  // after 0.27 s: the direct sound is long gone
+        for (std::size_t i = 0; i < kBlock; ++i) tail[with_room] += l[i] * l[i] + r[i] * r[i];
+    }
+  }
+  EXPECT_EQ(tail[0], 0.0);
+  EXPECT_GT(tail[1], 1e-4);
+}
+
+TEST(SceneJson, RoomTakesPresetNamesAndReverbItsType) {
+  using earshot::scenes::parse_scene;
+  const auto s = parse_scene(R"({"room": "concert-hall", "reverb": "schroeder", "sources": []})", "s.json");
+  EXPECT_EQ(s.room, "concert-hall");
+  EXPECT_EQ(s.reverb, "schroeder");
+  EXPECT_EQ(parse_scene(R"({"room": "generic", "sources": []})", "s.json").reverb, "fdn");
+  try {
+    (void)parse_scene(R"({"room": "concert_hall", "sources": []})", "s.json");
+    FAIL() << "no error";
+  } catch (const earshot::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("s.json"), std::string::npos) << what;
+    EXPECT_NE(what.find("'room'"), std::string::npos) << what;
+    EXPECT_NE(what.find("stone-corridor"), std::string::npos) << what;
+  }
+  EXPECT_THROW((void)parse_scene(R"({"room": "generic", "reverb": "moorer", "sources": []})", "s.json"),
+               earshot::InputError);
 }

@@ -52,7 +52,7 @@ void ReverbSchroeder::update(const RoomParams& p) {
   const double t60 = std::clamp(p.decay_time_s, 0.05, 100.0);
   const double ratio = std::clamp(p.decay_hf_ratio, 0.05, 4.0);
   const double f_hf = std::min(p.hf_reference_hz, 0.45 * rate_);
-  double mean_g2 = 0.0;
+  double mean_gain = 0.0;  // energy gain of a comb from its input to its output
   for (std::size_t i = 0; i < kCombs; ++i) {
     comb_len_[i] = std::min(prime_at_least(static_cast<std::size_t>(std::lround(kCombMs[i] * spread * 1e-3 * rate_))),
                             comb_stride_ - 1);
@@ -61,12 +61,14 @@ void ReverbSchroeder::update(const RoomParams& p) {
     const double g = d.gain;
     feedback_[i] = static_cast<float>(g);
     for (std::size_t s = 0; s < 2; ++s) damp_[s][i] = d.shelf[s];
-    mean_g2 += g * g / kCombs;
+    mean_gain += 1.0 / (1.0 - g * g) / kCombs;
   }
   ap_g_ = static_cast<float>(0.5 + 0.2 * std::clamp(p.diffusion, 0.0, 1.0));
-  // Each comb (weight 1/sqrt(K)) gives g^2 / (1 - g^2) of the input's energy.
+  // A comb passes its input once unattenuated, then g^2 less energy per
+  // round: 1 / (1 - g^2) of the input's energy; the K combs add up (their
+  // echoes do not coincide). The allpasses keep the energy.
   const double level = std::clamp(p.late_reverb_gain, 0.0, 10.0);
-  out_gain_ = static_cast<float>(level * std::sqrt((1.0 - mean_g2) / mean_g2) / std::sqrt(double(kCombs)));
+  out_gain_ = static_cast<float>(level / std::sqrt(kCombs * mean_gain));
 }
 
 void ReverbSchroeder::process(std::span<const float> in, std::span<float> out_left, std::span<float> out_right) {

@@ -228,10 +228,12 @@ TEST(RoomReverb, DryAndWetLevels) {
 
 // Table 1: "0 dB gives a reverb tail with roughly the same energy as the input".
 TEST(RoomReverb, LateLevelFollowsLateReverbGain) {
+  for (const char* preset : {"concert-hall", "padded-cell"})
   for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
-    SCOPED_TRACE(name(type));
-    RoomParams p = room_preset("concert-hall");
-    p.gain = 1.0, p.gain_hf = 1.0, p.reflections_gain = 0.0;
+    SCOPED_TRACE(std::string(preset) + " " + name(type));
+    RoomParams p = room_preset(preset);
+    // Flat decay: a shorter high-frequency decay takes its share of the energy away.
+    p.gain = 1.0, p.gain_hf = 1.0, p.reflections_gain = 0.0, p.decay_hf_ratio = 1.0;
     double energy[2] = {};
     for (int k = 0; k < 2; ++k) {
       p.late_reverb_gain = k == 0 ? 1.0 : 0.5;
@@ -289,4 +291,27 @@ TEST(SceneJson, RoomTakesPresetNamesAndReverbItsType) {
   }
   EXPECT_THROW((void)parse_scene(R"({"room": "generic", "reverb": "moorer", "sources": []})", "s.json"),
                earshot::InputError);
+}
+
+// The corners of the parameter ranges, beyond what any preset asks.
+TEST(RoomReverb, ExtremeParametersStayFinite) {
+  const auto in = noise(static_cast<std::size_t>(0.3 * kFs), 11);
+  for (double t60 : {0.1, 20.0})
+    for (double ratio : {0.1, 2.0})
+      for (double density : {0.0, 1.0})
+        for (double f_hf : {1000.0, 20000.0})
+          for (auto type : {LateReverbType::fdn, LateReverbType::schroeder}) {
+            RoomParams p = room_preset("generic");
+            p.decay_time_s = t60, p.decay_hf_ratio = ratio, p.density = density, p.hf_reference_hz = f_hf;
+            p.late_reverb_gain = 10.0, p.reflections_gain = 3.16, p.gain = 1.0, p.wet_db = 20.0;
+            SCOPED_TRACE(testing::Message() << name(type) << " t60 " << t60 << " ratio " << ratio << " density "
+                                            << density << " hf " << f_hf);
+            const auto out = render(p, type, static_cast<std::size_t>(1.0 * kFs), in);
+            double peak = 0.0;
+            for (std::size_t i = 0; i < out.left.size(); ++i) {
+              ASSERT_TRUE(std::isfinite(out.left[i]) && std::isfinite(out.right[i])) << i;
+              peak = std::max({peak, double(std::abs(out.left[i])), double(std::abs(out.right[i]))});
+            }
+            EXPECT_LT(peak, 1000.0);
+          }
 }

@@ -11,7 +11,8 @@
 //
 // Line lengths are 11-37 ms at density 1 (mutually prime), shorter for less
 // dense rooms. The output is scaled so that the tail's energy is about
-// late_reverb_gain^2 times the input's (Table 1: 0 dB ~ the input's energy).
+// late_reverb_gain^2 times the input's (Table 1: 0 dB ~ the input's energy) with a
+// flat decay; a shorter high-frequency decay leaves less.
 // Allocates at construction only; update() and process() never allocate.
 #pragma once
 

@@ -10,7 +10,7 @@
 // decay_time_s * decay_hf_ratio at hf_reference_hz while 500 Hz and 1 kHz
 // keep decay_time_s (Moorer's one-pole low-pass also shortens 1 kHz, by 75%
 // in the living room, and cannot lengthen the high decay). The tail's
-// energy is about late_reverb_gain^2 times the input's.
+// energy is about late_reverb_gain^2 times the input's (with a flat decay).
 // Allocates at construction only; update() and process() never allocate.
 #pragma once
 

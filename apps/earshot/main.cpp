@@ -12,7 +12,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("earshot ") + EARSHOT_VERSION);
   app.require_subcommand(1);
 
-  auto* track = app.add_subcommand("track", "Head tracking: simulate a camera, solve poses from dots");
+  auto* track = app.add_subcommand("track", "Head tracking: simulate a camera, solve poses from dots, track live, record");
   track->require_subcommand(1);
   earshot::app::add_track_commands(*track);
   earshot::app::add_demo_command(app);

@@ -191,6 +191,7 @@ void add_track_commands(CLI::App& track) {
   solve->add_option("--gate", solve_opts->gate_px, "Largest accepted RMS reprojection error, px")->capture_default_str()->check(CLI::PositiveNumber);
   solve_opts->cam.add_to(*solve);
   solve->callback([solve_opts] { run_solve(*solve_opts); });
+  add_track_live_commands(track);
 }
 
 void add_demo_command(CLI::App& app) {

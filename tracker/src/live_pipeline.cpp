@@ -127,7 +127,7 @@ HeadPose LivePipeline::on_note(const SourceNote& n, double now) {
   using K = SourceNote::Kind;
   if (n.kind == K::recenter) recenter_pending_ = true;
   if (n.kind == K::disconnected || n.kind == K::connected) tracker_.reset();
-  const bool fresh = now - last_good_t_ <= cfg_.tracker.predict_timeout_s;
+  const bool fresh = now - last_good_t_ <= (direct_ ? cfg_.direct_timeout_s : cfg_.tracker.predict_timeout_s);
   if ((state_ == PoseState::tracking || state_ == PoseState::predicted) && fresh &&
       (n.kind == K::timeout || n.kind == K::recenter))
     return emit(now, out_, PoseState::predicted);  // a short gap: hold, say so

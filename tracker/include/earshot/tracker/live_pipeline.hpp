@@ -32,6 +32,9 @@ struct LiveConfig {
   double hold_s = 0.5;     ///< lost: hold the last pose this long
   double ease_s = 1.5;     ///< then ease to neutral over this long
   double resume_s = 0.15;  ///< blend back to tracking over this long
+  /// Direct pose sources (OSC, opentrack) may send only on change: their
+  /// last pose counts as current this long before the state turns lost.
+  double direct_timeout_s = 2.0;
   std::uint16_t recenter_buttons = 0x0800 | 0x8000;  ///< wiimote::Buttons::a | home
   bool level_from_accel = true;
   int still_frames = 30;        ///< accelerometer steady this many frames = still

@@ -1,0 +1,225 @@
+// `earshot track live` and `earshot track record`: the live tracker from the
+// command line. `live` runs the tracker thread on a source and prints the
+// pose and state as they change (one updating line on a terminal, plain
+// lines otherwise), optionally recording every published pose as a Pose
+// track CSV for `earshot render --pose-track`; `record` writes a camera
+// source's raw dots as a Dots CSV for `track solve` or `--source replay:`.
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <numbers>
+#include <string>
+#include <thread>
+
+#include "earshot/errors.hpp"
+#include "earshot/pose_slot.hpp"
+#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/opentrack_packet.hpp"
+#include "earshot/tracker/osc_pose.hpp"
+#include "earshot/tracker/pose_track_writer.hpp"
+#include "earshot/tracker/sim_source.hpp"
+#include "earshot/tracker/wiimote_source.hpp"
+#include "track_commands.hpp"
+
+namespace earshot::app {
+namespace {
+
+using namespace earshot::tracker;
+using clock = std::chrono::steady_clock;
+
+// The one flag a signal handler may set: Ctrl-C ends the run cleanly, so a
+// recording is flushed and closed.
+std::atomic<bool> g_interrupted{false};
+extern "C" void on_sigint(int) { g_interrupted.store(true); }
+
+struct LiveOptions {
+  std::string source = "wiimote";
+  std::string record;
+  std::string out;
+  double duration_s = 0.0;  // 0: until Ctrl-C or the source ends
+  bool fast = false;
+  double focal = 1280.0;
+  std::string model_path;
+};
+
+const char* kSources = "wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT]";
+
+std::uint16_t port_of(const std::string& spec, std::size_t colon, std::uint16_t fallback) {
+  if (colon == std::string::npos) return fallback;
+  const std::string p = spec.substr(colon + 1);
+  char* end = nullptr;
+  const long v = std::strtol(p.c_str(), &end, 10);
+  if (p.empty() || *end != '\0' || v < 1 || v > 65535)
+    throw InputError::at("--source", 0, "", "bad UDP port '" + p + "' in '" + spec + "'");
+  return static_cast<std::uint16_t>(v);
+}
+
+std::unique_ptr<FrameSource> make_source(const LiveOptions& o, bool camera_only) {
+  const std::string& s = o.source;
+  const std::size_t colon = s.find(':');
+  const std::string kind = s.substr(0, colon);
+  const Pacing pacing = o.fast ? Pacing::as_fast_as_possible : Pacing::real_time;
+  const Camera cam = Camera::with_focal(o.focal);
+  if (kind == "wiimote" && colon == std::string::npos) return std::make_unique<WiimoteSource>(make_hidapi_transport());
+  if (kind == "sim" && colon == std::string::npos) {
+    SimSourceConfig c;
+    c.pacing = pacing;
+    return std::make_unique<SimSource>(cam, o.model_path.empty() ? LedModel::thesis() : load_led_model(o.model_path), c);
+  }
+  if (kind == "replay" && colon != std::string::npos) return std::make_unique<ReplaySource>(s.substr(colon + 1), pacing);
+  if (!camera_only && kind == "opentrack")
+    return std::make_unique<UdpPoseSource>("opentrack", port_of(s, colon, kOpentrackDefaultPort), true, decode_opentrack);
+  if (!camera_only && kind == "osc")
+    return std::make_unique<UdpPoseSource>("osc", port_of(s, colon, kOscDefaultPort), true, decode_osc);
+  if (camera_only && (kind == "opentrack" || kind == "osc"))
+    throw InputError::at("--source", 0, "", "'" + s + "' sends poses, not dots: record needs wiimote, sim or replay:FILE");
+  throw InputError::at("--source", 0, "", "unknown source '" + s + "' (" + kSources + ")");
+}
+
+const char* state_name(PoseState s) {
+  switch (s) {
+    case PoseState::searching: return "searching";
+    case PoseState::tracking: return "tracking";
+    case PoseState::predicted: return "predicted";
+    case PoseState::lost: return "lost";
+  }
+  return "?";
+}
+
+/// Yaw, pitch, roll in degrees in the audio convention (see live_pipeline.hpp).
+std::array<double, 3> ypr_deg(const HeadPose& p) {
+  const Quat q(p.orientation[0], p.orientation[1], p.orientation[2], p.orientation[3]);
+  const Mat3 R = q.normalized().toRotationMatrix();
+  const Vec3 f = R * Vec3(0, 0, -1);
+  const double yaw = std::atan2(-f.x(), -f.z());
+  const double pitch = std::asin(std::clamp(f.y(), -1.0, 1.0));
+  const Mat3 M = (Eigen::AngleAxisd(yaw, Vec3::UnitY()) * Eigen::AngleAxisd(pitch, Vec3::UnitX())).toRotationMatrix().transpose() * R;
+  const double roll = -std::atan2(M(1, 0), M(0, 0));
+  constexpr double deg = 180.0 / std::numbers::pi;
+  return {yaw * deg, pitch * deg, roll * deg};
+}
+
+std::string pose_line(const HeadPose& p, const LiveTracker::Status& st) {
+  const auto a = ypr_deg(p);
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "t=%8.2fs %-9s x=%+6.3f y=%+6.3f z=%+6.3f m  yaw=%+6.1f pitch=%+6.1f roll=%+6.1f deg  frames=%llu dropped=%llu",
+                p.t, state_name(p.state), p.position[0], p.position[1], p.position[2], a[0], a[1], a[2],
+                static_cast<unsigned long long>(st.frames), static_cast<unsigned long long>(st.dropped));
+  return buf;
+}
+
+void run_live(const LiveOptions& o) {
+  std::ofstream file;
+  std::optional<PoseTrackWriter> writer;
+  if (!o.record.empty()) {
+    file.open(o.record);
+    if (!file) throw InputError::at(o.record, 0, "", "cannot create file");
+    writer.emplace(file);
+  }
+  LiveConfig cfg;
+  cfg.camera = Camera::with_focal(o.focal);
+  if (!o.model_path.empty()) cfg.model = load_led_model(o.model_path);
+  PoseSlot slot;
+  const bool tty = ::isatty(::fileno(stdout)) != 0;
+  g_interrupted = false;
+  std::signal(SIGINT, on_sigint);
+  LiveTracker::Status st;
+  std::string last_note;
+  {
+    LiveTracker tracker(make_source(o, false), slot, cfg,
+                        [&writer](const HeadPose& p) { if (writer) writer->write(p); });
+    std::fprintf(stderr, "earshot: tracking from %s%s\n", tracker.status().source.c_str(),
+                 tty ? " (Ctrl-C to stop)" : "");
+    const auto start = clock::now();
+    const auto period = std::chrono::milliseconds(tty ? 50 : 100);
+    while (tracker.running() && !g_interrupted.load()) {
+      std::this_thread::sleep_for(period);
+      if (o.duration_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= o.duration_s) break;
+      st = tracker.status();
+      if (!st.note.empty() && st.note != last_note) {
+        std::fprintf(stdout, "%s%s\n", tty ? "\r\033[K" : "", st.note.c_str());
+        last_note = st.note;
+      }
+      const HeadPose p = slot.load();
+      if (p.sequence == 0) continue;
+      if (tty) std::fprintf(stdout, "\r\033[K%s", pose_line(p, st).c_str());
+      else std::fprintf(stdout, "%s\n", pose_line(p, st).c_str());
+      std::fflush(stdout);
+    }
+    tracker.stop();
+    st = tracker.status();
+  }
+  std::signal(SIGINT, SIG_DFL);
+  if (tty) std::fprintf(stdout, "\n");
+  if (writer) {
+    file.flush();
+    if (!file) throw InputError::at(o.record, 0, "", "write failed");
+  }
+  if (!st.error.empty()) throw std::runtime_error(st.source + ": " + st.error);
+  std::fprintf(stderr, "earshot: %llu frames, %llu poses published, %llu malformed inputs dropped, %llu impossible dots rejected\n",
+               static_cast<unsigned long long>(st.frames), static_cast<unsigned long long>(st.published),
+               static_cast<unsigned long long>(st.dropped), static_cast<unsigned long long>(st.rejected_dots));
+}
+
+void run_record(const LiveOptions& o) {
+  const auto source = make_source(o, true);
+  std::ofstream file(o.out);
+  if (!file) throw InputError::at(o.out, 0, "", "cannot create file");
+  DotsCsvWriter writer(file, false);
+  g_interrupted = false;
+  std::signal(SIGINT, on_sigint);
+  const auto start = clock::now();
+  long frames = 0;
+  while (!g_interrupted.load()) {
+    if (o.duration_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= o.duration_s) break;
+    const SourceEvent e = source->next(std::chrono::milliseconds(50));
+    if (const auto* f = std::get_if<CameraFrame>(&e)) {
+      writer.write(f->dots);
+      ++frames;
+    } else if (const auto* n = std::get_if<SourceNote>(&e)) {
+      if (n->kind == SourceNote::Kind::ended) break;
+      if (!n->message.empty()) std::fprintf(stderr, "earshot: %s\n", n->message.c_str());
+    }
+  }
+  std::signal(SIGINT, SIG_DFL);
+  file.flush();
+  if (!file) throw InputError::at(o.out, 0, "", "write failed");
+  std::fprintf(stderr, "earshot: recorded %ld frames from %s to %s (%llu malformed reports dropped)\n", frames,
+               source->describe().c_str(), o.out.c_str(), static_cast<unsigned long long>(source->dropped()));
+}
+
+void add_common(CLI::App& cmd, LiveOptions& o) {
+  cmd.add_option("--duration", o.duration_s, "Stop after this many seconds (default: until Ctrl-C or the source ends)")
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_flag("--fast", o.fast, "sim and replay: as fast as possible instead of in real time");
+  cmd.add_option("--focal", o.focal, "Camera focal length in pixels (1024x768 image)")->capture_default_str()->check(CLI::PositiveNumber);
+  cmd.add_option("--model", o.model_path, "Model JSON with the beacon's LED positions (default: thesis beacon)");
+}
+
+}  // namespace
+
+void add_track_live_commands(CLI::App& track) {
+  auto lo = std::make_shared<LiveOptions>();
+  auto* live = track.add_subcommand("live", "Track live and print the listener pose and state; optionally record it as a Pose track CSV");
+  live->add_option("--source,-s", lo->source, std::string("Input: ") + kSources)->capture_default_str();
+  live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
+  add_common(*live, *lo);
+  live->callback([lo] { run_live(*lo); });
+
+  auto ro = std::make_shared<LiveOptions>();
+  auto* rec = track.add_subcommand("record", "Record a camera source's dots (e.g. a real Wii Remote) as a Dots CSV");
+  rec->add_option("--source,-s", ro->source, "Input: wiimote, sim, replay:FILE")->capture_default_str();
+  rec->add_option("--out,-o", ro->out, "Dots CSV to write")->required();
+  add_common(*rec, *ro);
+  rec->callback([ro] { run_record(*ro); });
+}
+
+}  // namespace earshot::app

@@ -1,0 +1,23 @@
+// Fuzzes the opentrack UDP decoder: any datagram becomes a plausible, finite
+// pose or is dropped with a reason.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <span>
+#include <string>
+
+#include "earshot/tracker/opentrack_packet.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  namespace t = earshot::tracker;
+  std::string why;
+  const auto m = t::decode_opentrack(std::span(data, size), &why);
+  if (!m && why.empty()) std::abort();  // a dropped packet always says why
+  if (m) {
+    if (!m->pose) std::abort();
+    const auto& p = *m->pose;
+    if (!p.position_m.allFinite() || p.position_m.norm() > 2.0 * t::kMaxPositionM) std::abort();
+    if (!p.orientation.coeffs().allFinite() || std::abs(p.orientation.norm() - 1.0) > 1e-9) std::abort();
+  }
+  return 0;
+}

@@ -8,6 +8,7 @@
 
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/errors.hpp"
+#include "earshot/hrtf/hrtf_set.hpp"
 
 namespace earshot::scenes {
 namespace {
@@ -130,8 +131,26 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   s.reverb = f.text("reverb", "fdn");
   if (s.reverb != "fdn" && s.reverb != "schroeder")
     f.fail("reverb", "unknown reverb '" + s.reverb + "' (available: fdn, schroeder)");
+  s.doppler_factor = f.number("doppler_factor", 1.0, 0.0, 10.0);
+  s.speed_of_sound = f.number("speed_of_sound", 343.3, 1.0, 10000.0);
   if (f.has("listener")) {
     Fields l(f.at("listener"), origin, "listener");
+    if (l.has("head_size")) {
+      const json& h = l.at("head_size");
+      if (h.is_number()) {
+        const double r = h.get<double>();
+        if (!(r >= 0.05 && r <= 0.15)) l.fail("head_size", "radius out of range: " + h.dump() + " (0.05 to 0.15 m)");
+        s.listener.head_radius_m = r;
+      } else if (h == "small") {
+        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::small);
+      } else if (h == "medium") {
+        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::medium);
+      } else if (h == "large") {
+        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::large);
+      } else if (h != "measured") {
+        l.fail("head_size", "expected measured, small, medium, large or a radius in metres, got " + h.dump());
+      }
+    }
     s.listener.position = l.vec3("position", {0, 0, 0});
     s.listener.yaw_deg = l.number("yaw_deg", 0, -360, 360);
     s.listener.pitch_deg = l.number("pitch_deg", 0, -90, 90);
@@ -159,6 +178,7 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
     src.distance.rolloff = sf.number("rolloff", 1, 0, 100);
     src.distance.max_distance = sf.number("max_distance", 1e5, 1e-3, 1e5);
     src.reverb_send_db = sf.number("reverb_send_db", -120, -120, 20);
+    src.air_absorption = sf.number("air_absorption", 0, 0, 10);
     sf.done();
     s.sources.push_back(src);
   }

@@ -26,8 +26,9 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   const double rate = opt.sample_rate.value_or(scene.sample_rate);
   const double duration = opt.duration_s.value_or(scene.duration_s);
   if (opt.block == 0 || opt.block > 8192) throw InputError::at("--block", 0, "", "must be 1 to 8192 frames");
-  auto hrtf = std::make_shared<const hrtf::HrtfSet>(
-      hrtf::HrtfSet::load(opt.hrtf.empty() ? hrtf::HrtfSet::kDefaultPath : opt.hrtf, rate));
+  auto set = hrtf::HrtfSet::load(opt.hrtf.empty() ? hrtf::HrtfSet::kDefaultPath : opt.hrtf, rate);
+  set.set_parametric_itd(scene.listener.head_radius_m);
+  auto hrtf = std::make_shared<const hrtf::HrtfSet>(std::move(set));
   std::optional<PoseTrack> track;
   if (auto p = opt.pose_track ? opt.pose_track : scene.pose_track) track = PoseTrack::load(*p);
 
@@ -35,6 +36,8 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   cfg.sample_rate = rate;
   cfg.block = opt.block;
   cfg.max_sources = std::max<std::size_t>(1, scene.sources.size());
+  cfg.doppler_factor = scene.doppler_factor;
+  cfg.speed_of_sound = scene.speed_of_sound;
   audio::Renderer renderer(hrtf, cfg);
   std::vector<SignalSource> signals;
   std::vector<int> ids;
@@ -45,6 +48,7 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
     st.gain = db(s.gain_db);
     st.distance = s.distance;
     st.reverb_send = s.reverb_send_db <= -120 ? 0.0 : db(s.reverb_send_db);
+    st.air_absorption = s.air_absorption;
     ids.push_back(renderer.add_source(st));
   }
   // The room: the renderer's send bus through the reverb, back into the next block's mix.

@@ -1,15 +1,20 @@
 // Scene JSON: what `earshot render` plays (contract in docs/ARCHITECTURE.md).
 //   {"duration_s": 5, "sample_rate": 48000, "room": "none", "reverb": "fdn",
-//    "listener": {"position": [0,0,0], "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0},
+//    "doppler_factor": 1, "speed_of_sound": 343.3,
+//    "listener": {"position": [0,0,0], "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0,
+//                 "head_size": "measured"},
 //    "pose_track": "poses.csv",                       (optional)
 //    "sources": [{"name": "n", "signal": {"type": "noise", "seed": 1},
 //                 "position": [0,0,-1], "gain_db": 0, "distance_model": "inverse-clamped",
 //                 "reference_distance": 1, "rolloff": 1, "max_distance": 100,
-//                 "reverb_send_db": -120}]}
+//                 "reverb_send_db": -120, "air_absorption": 0}]}
 // Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path}.
 // room: "none" or a room preset (audio/room_presets.hpp, e.g. "concert-hall");
 // reverb: its late reverb, "fdn" (default) or "schroeder". Sources reach it
 // through reverb_send_db.
+// head_size: "measured" (the HRTF's own ITD) or a spherical-head ITD for
+// "small", "medium", "large" heads or a radius in metres (the thesis's
+// listener sizes). air_absorption: OpenAL's factor (0 = none, 1 = normal air).
 // Unknown fields are errors; every error names the file and the field.
 // Relative paths inside a scene are relative to the scene file.
 #pragma once
@@ -40,11 +45,13 @@ struct SceneSource {
   double gain_db = 0.0;
   audio::DistanceParams distance{};
   double reverb_send_db = -120.0;
+  double air_absorption = 0.0;
 };
 
 struct SceneListener {
   std::array<double, 3> position{0, 0, 0};
   double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
+  std::optional<double> head_radius_m;  ///< none: the HRTF's measured ITD
 };
 
 struct Scene {
@@ -52,6 +59,8 @@ struct Scene {
   double sample_rate = 48000.0;
   std::string room = "none";    ///< "none" or a room preset name
   std::string reverb = "fdn";   ///< late reverb of the room: "fdn" or "schroeder"
+  double doppler_factor = 1.0;   ///< OpenAL's; 0 removes propagation delay and Doppler
+  double speed_of_sound = 343.3; ///< m/s
   SceneListener listener;
   std::optional<std::filesystem::path> pose_track;
   std::vector<SceneSource> sources;

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <algorithm>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include "earshot/errors.hpp"
@@ -202,4 +203,45 @@ TEST(HrtfSet, BadFilesGetOneClearError) {
   }
   const std::string other = load_error(dir / "other.sofa");
   EXPECT_NE(other.find("SimpleFreeFieldHRXX"), std::string::npos) << other;
+}
+
+TEST(HrtfSet, CorruptedCopiesOfTheDefaultFileGetAnErrorOrLoadCleanly) {
+  // Outside bytes reach libmysofa here: flipped bytes, zeroed runs and
+  // truncations of the real file must give an InputError naming the file,
+  // or a set whose every filter is finite; never a crash.
+  std::ifstream in(HrtfSet::kDefaultPath, std::ios::binary);
+  const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(good.size(), 10000u);
+  const fs::path file = fs::temp_directory_path() / "earshot_hrtf_test" / "corrupt.sofa";
+  fs::create_directories(file.parent_path());
+  std::mt19937 rng(20261123);
+  int errors = 0, loaded = 0;
+  for (int k = 0; k < 60; ++k) {
+    std::string bytes = good;
+    std::uniform_int_distribution<std::size_t> at(0, bytes.size() - 1);
+    switch (k % 3) {
+      case 0:  // a few flipped bytes
+        for (int i = 0; i < 1 + k % 16; ++i) bytes[at(rng)] ^= static_cast<char>(1 + rng() % 255);
+        break;
+      case 1: {  // a zeroed run
+        const std::size_t from = at(rng), n = std::min<std::size_t>(bytes.size() - from, 1 + rng() % 4096);
+        std::fill_n(bytes.begin() + static_cast<long>(from), n, '\0');
+        break;
+      }
+      default:  // truncated
+        bytes.resize(at(rng));
+    }
+    std::ofstream(file, std::ios::binary | std::ios::trunc) << bytes;
+    try {
+      const HrtfSet s = HrtfSet::load(file, 48000.0);
+      ++loaded;
+      for (std::size_t m = 0; m < s.measurement_count(); ++m)
+        for (float v : s.filter(m, Ear::left)) ASSERT_TRUE(std::isfinite(v)) << "copy " << k;
+    } catch (const earshot::InputError& e) {
+      ++errors;
+      EXPECT_EQ(std::string(e.what()).rfind(file.string() + ": ", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_GT(errors, 10);
+  std::printf("corrupted copies: %d rejected with an error, %d loaded\n", errors, loaded);
 }

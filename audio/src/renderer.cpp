@@ -133,7 +133,13 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     const double c = cfg_.speed_of_sound;
     const double approach = std::max(cfg_.doppler_factor * rate_src, -0.5 * c);  // no sonic booms
     const double prop = cfg_.doppler_factor * hr.distance / (c + approach) * cfg_.sample_rate;
-    const double g = v.state.gain * distance_gain(hr.distance, v.state.distance) * listener.gain;
+    // OpenAL's order: source gain x distance x cone, clamped to [min, max],
+    // then the listener's gain.
+    const Vec3& sp = v.state.position;
+    const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
+    const double attenuated =
+        v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
+    const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener.gain;
     const double g0 = v.gain < 0.0 ? g : v.gain;
     v.gain = g;
 

@@ -327,3 +327,32 @@ TEST(Renderer, AMovingSourceIsDopplerShiftedAsOpenAlComputesIt) {
   EXPECT_NEAR(approaching_tone_hz(20.0, 2.0), 1000.0 * c / (c - 40.0), 0.5);
   EXPECT_NEAR(approaching_tone_hz(20.0, 0.0), 1000.0, 0.05);
 }
+
+TEST(Cone, OpenAlAnglesAndGains) {
+  ConeParams c;
+  c.direction = {0, 0, 1};  // pointing towards +z
+  c.inner_angle_deg = 90;
+  c.outer_angle_deg = 180;
+  c.outer_gain = 0.2;
+  EXPECT_DOUBLE_EQ(cone_gain({0, 0, 1}, c), 1.0);           // on axis
+  EXPECT_DOUBLE_EQ(cone_gain({1, 0, 1}, c), 1.0);           // 45 deg: the inner edge
+  EXPECT_NEAR(cone_gain({std::sqrt(3.0), 0, 1}, c), 1.0 + (0.2 - 1.0) * (60.0 - 45.0) / 45.0, 1e-12);  // 60 deg
+  EXPECT_DOUBLE_EQ(cone_gain({1, 0, 0}, c), 0.2);           // 90 deg: the outer edge
+  EXPECT_DOUBLE_EQ(cone_gain({0, 0, -1}, c), 0.2);          // behind
+  c.direction = {0, 0, 0};
+  EXPECT_DOUBLE_EQ(cone_gain({0, 0, -1}, c), 1.0);          // omnidirectional
+}
+
+TEST(Renderer, ConeAndGainLimitsShapeTheLevel) {
+  SourceState src;
+  src.position = {0, 0, -1};
+  src.distance.model = DistanceModel::none;
+  const double open = rms_db(render_noise(src, {}).l, 4800);
+  src.cone.direction = {0, 0, -1};  // facing away from the listener at the origin
+  src.cone.inner_angle_deg = 60;
+  src.cone.outer_angle_deg = 120;
+  src.cone.outer_gain = 0.1;
+  EXPECT_NEAR(rms_db(render_noise(src, {}).l, 4800) - open, -20.0, 0.05);
+  src.min_gain = 0.5;  // clamps the cone's attenuation
+  EXPECT_NEAR(rms_db(render_noise(src, {}).l, 4800) - open, -6.02, 0.05);
+}

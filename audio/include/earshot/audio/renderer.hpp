@@ -24,6 +24,7 @@
 
 #include "earshot/audio/air_absorption.hpp"
 #include "earshot/audio/binaural_convolver.hpp"
+#include "earshot/audio/cone.hpp"
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -52,7 +53,10 @@ struct ListenerState {
 struct SourceState {
   Vec3 position{0, 0, -1};
   double gain = 1.0;
+  double min_gain = 0.0;  ///< after distance and cone attenuation (OpenAL's AL_MIN_GAIN)
+  double max_gain = 1.0;  ///< likewise (AL_MAX_GAIN)
   DistanceParams distance{};
+  ConeParams cone{};
   double reverb_send = 0.0;  ///< linear gain into the reverb bus
   double air_absorption = 0.0;  ///< OpenAL's air absorption factor (0..10)
   bool relative = false;     ///< position relative to the listener

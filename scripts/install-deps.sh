@@ -14,6 +14,8 @@ packages=(
   libsndfile1-dev        # WAV/FLAC/OGG reading and writing
   libgtest-dev libgmock-dev  # unit tests
   libbenchmark-dev       # benchmarks (tests/bench)
+  libhidapi-dev          # Wii Remote over HID (hidraw backend), live tracker
+  liblo-dev              # OSC pose input, live tracker
   libopencv-dev          # reference PnP solver, only in tests and benchmarks
   libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes

@@ -26,7 +26,7 @@ void BinauralConvolver::reset() {
   std::fill(history_.begin(), history_.end(), std::complex<float>{});
 }
 
-void BinauralConvolver::transform_filter(std::span<const float> ir, Spectrum& bank) {
+void BinauralConvolver::transform_filter(std::span<const float> ir, std::span<std::complex<float>> bank) {
   // Partition p holds taps [pB, pB + B) zero-padded to 2B.
   for (std::size_t p = 0; p < parts_; ++p) {
     std::fill(padded_.begin(), padded_.end(), 0.0f);
@@ -35,16 +35,27 @@ void BinauralConvolver::transform_filter(std::span<const float> ir, Spectrum& ba
       const std::size_t n = std::min(block_, ir.size() - from);
       std::copy_n(ir.begin() + static_cast<std::ptrdiff_t>(from), n, padded_.begin());
     }
-    fft_.forward(padded_, std::span(bank).subspan(p * bins_, bins_));
+    fft_.forward(padded_, bank.subspan(p * bins_, bins_));
   }
 }
 
 void BinauralConvolver::set_filters(std::span<const float> left, std::span<const float> right) {
   if (left.size() > parts_ * block_ || right.size() > parts_ * block_)
     throw std::invalid_argument("BinauralConvolver: filter longer than max_filter_length");
+  const auto banks = begin_filter_update();
+  transform_filter(left, banks[0]);
+  transform_filter(right, banks[1]);
+  end_filter_update();
+}
+
+std::array<std::span<std::complex<float>>, 2> BinauralConvolver::begin_filter_update() {
+  // The first filters take effect at once; later ones go to the other bank
+  // and are crossfaded in during the next process().
   const int target = have_filters_ ? 1 - current_ : current_;
-  transform_filter(left, filters_[target][0]);
-  transform_filter(right, filters_[target][1]);
+  return {std::span(filters_[target][0]), std::span(filters_[target][1])};
+}
+
+void BinauralConvolver::end_filter_update() {
   pending_ = have_filters_;
   have_filters_ = true;
 }

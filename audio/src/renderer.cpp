@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <optional>
 #include <stdexcept>
 
@@ -45,13 +46,16 @@ HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
 struct Renderer::Voice {
   Voice(std::size_t block, std::size_t filter_len, double max_delay, double rate)
       : air(rate), conv(block, filter_len), delay_l(block, max_delay), delay_r(block, max_delay),
-        input(block, 0.0f), fl(filter_len), fr(filter_len), wet_l(block), wet_r(block), out_l(block), out_r(block) {}
+        input(block, 0.0f), wet_l(block), wet_r(block), out_l(block), out_r(block) {}
   SourceState state;
   AirAbsorption air;
   BinauralConvolver conv;
   FractionalDelay delay_l, delay_r;
-  std::vector<float> input, fl, fr, wet_l, wet_r, out_l, out_r;
+  std::vector<float> input, wet_l, wet_r, out_l, out_r;
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
+  std::array<double, 2> ear_gain{1.0, 1.0};       // brings each blended filter to its interpolated energy
+  std::array<double, 2> ear_gain_prev{-1.0, -1.0};  // last block's (< 0: none yet)
+  Vec3 filter_dir{0, 0, 0};  // head-frame direction of the filters in use (zero: none yet)
   double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
   hrtf::Delays delays{};
   std::optional<Vec3> moved_from;  // the source's position in the previous block
@@ -66,6 +70,7 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
   const double max_delay =
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
+  spectra_ = std::make_shared<const HrtfSpectra>(*hrtf_, cfg_.block);
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
     voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay, cfg_.sample_rate));
@@ -74,11 +79,33 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
 
 Renderer::~Renderer() = default;
 
+void Renderer::update_filters(Voice& v, const hrtf::Interpolation& in) {
+  // A weighted sum of the measured spectra is the spectrum of the weighted
+  // sum of the filters; each ear is then scaled to its interpolated energy.
+  const auto banks = v.conv.begin_filter_update();
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const std::span<std::complex<float>> bank = banks[ear];
+    std::fill(bank.begin(), bank.end(), std::complex<float>{});
+    for (std::size_t k = 0; k < 3; ++k) {
+      const auto w = static_cast<float>(in.blend.weight[k]);
+      if (w == 0.0f) continue;
+      const auto src = spectra_->spectrum(in.blend.index[k], static_cast<hrtf::Ear>(ear));
+      for (std::size_t i = 0; i < bank.size(); ++i) bank[i] += w * src[i];
+    }
+    const double e = spectra_->energy(bank);
+    v.ear_gain[ear] = e > 0.0 ? std::sqrt(in.energy[ear] / e) : 1.0;
+  }
+  v.conv.end_filter_update();
+}
+
 int Renderer::add_source(const SourceState& s) {
   if (active_ >= voices_.size()) return -1;
   Voice& v = *voices_[active_];
   v.state = s;
   v.gain = -1.0;
+  v.ear_gain = {1.0, 1.0};
+  v.ear_gain_prev = {-1.0, -1.0};
+  v.filter_dir = {0, 0, 0};
   v.azimuth = v.elevation = 1e9;
   v.moved_from.reset();
   v.air.reset();
@@ -111,10 +138,20 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
     const HeadRelative hr = head_relative(v.state.position, frame);
-    // New filters (and their crossfade) only when the direction moved.
     if (hr.azimuth != v.azimuth || hr.elevation != v.elevation) {
-      v.delays = hrtf_->lookup(hr.azimuth, hr.elevation, v.fl, v.fr);
-      v.conv.set_filters(v.fl, v.fr);
+      const hrtf::Interpolation in = hrtf_->interpolate(hr.azimuth, hr.elevation);
+      v.delays = in.delays;  // the ITD follows every move, through the delay lines
+      // New filters (and their crossfade) once the direction has moved by
+      // kFilterStep: below that the filters' change is far below what anyone
+      // hears, and a slowly moving source would otherwise pay for new
+      // spectra every block.
+      const Vec3 dir{std::cos(hr.elevation) * std::cos(hr.azimuth), std::cos(hr.elevation) * std::sin(hr.azimuth),
+                     std::sin(hr.elevation)};
+      const double cosine = dir[0] * v.filter_dir[0] + dir[1] * v.filter_dir[1] + dir[2] * v.filter_dir[2];
+      if (cosine < kFilterStepCosine) {
+        update_filters(v, in);
+        v.filter_dir = dir;
+      }
       v.azimuth = hr.azimuth;
       v.elevation = hr.elevation;
     }
@@ -152,9 +189,17 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     const auto send = static_cast<float>(v.state.reverb_send);
     for (std::size_t i = 0; i < B; ++i) {
       const auto gi = static_cast<float>(g0 + step * static_cast<double>(i + 1));
-      mix_l_[i] += gi * v.out_l[i];
-      mix_r_[i] += gi * v.out_r[i];
       send_[i] += send * gi * v.input[i];
+    }
+    // Per ear: the source's gain times the filter's energy correction, both
+    // ramped across the block.
+    for (std::size_t ear = 0; ear < 2; ++ear) {
+      const double e1 = v.ear_gain[ear], e0 = v.ear_gain_prev[ear] < 0.0 ? e1 : v.ear_gain_prev[ear];
+      v.ear_gain_prev[ear] = e1;
+      const double a = g0 * e0, da = (g * e1 - a) / static_cast<double>(B);
+      float* mix = ear == 0 ? mix_l_.data() : mix_r_.data();
+      const float* out = ear == 0 ? v.out_l.data() : v.out_r.data();
+      for (std::size_t i = 0; i < B; ++i) mix[i] += static_cast<float>(a + da * static_cast<double>(i + 1)) * out[i];
     }
   }
 

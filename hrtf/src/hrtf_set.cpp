@@ -236,51 +236,56 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   return set;
 }
 
-Delays HrtfSet::lookup(double azimuth, double elevation, std::span<float> left, std::span<float> right) const {
+Interpolation HrtfSet::interpolate(double azimuth, double elevation) const {
   const Dir d{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
-  const Blend b = triangulation_->locate(d);
-  std::fill(left.begin(), left.end(), 0.0f);
-  std::fill(right.begin(), right.end(), 0.0f);
-  Delays out;
-  const std::size_t n = std::min({length_, left.size(), right.size()});
+  Interpolation out;
+  out.blend = triangulation_->locate(d);
   std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies
   for (std::size_t k = 0; k < 3; ++k) {
-    const auto w = static_cast<float>(b.weight[k]);
+    const double w = out.blend.weight[k];
+    const std::size_t m = out.blend.index[k];
+    out.delays.left_s += w * delays_[m].left_s;
+    out.delays.right_s += w * delays_[m].right_s;
+    log_energy[0] += w * std::log(energies_[m][0]);
+    log_energy[1] += w * std::log(energies_[m][1]);
+  }
+  out.energy = {std::exp(log_energy[0]), std::exp(log_energy[1])};
+  if (parametric_radius_) {
+    const double mid = 0.5 * (out.delays.left_s + out.delays.right_s);
+    const double itd = woodworth_itd(azimuth, elevation, *parametric_radius_);
+    out.delays = {mid - 0.5 * itd, mid + 0.5 * itd};
+    // Keep both delays non-negative (a constant shift is latency, not a cue).
+    const double lo = std::min(out.delays.left_s, out.delays.right_s);
+    if (lo < 0.0) out.delays = {out.delays.left_s - lo, out.delays.right_s - lo};
+  }
+  return out;
+}
+
+Delays HrtfSet::lookup(double azimuth, double elevation, std::span<float> left, std::span<float> right) const {
+  const Interpolation in = interpolate(azimuth, elevation);
+  std::fill(left.begin(), left.end(), 0.0f);
+  std::fill(right.begin(), right.end(), 0.0f);
+  const std::size_t n = std::min({length_, left.size(), right.size()});
+  for (std::size_t k = 0; k < 3; ++k) {
+    const auto w = static_cast<float>(in.blend.weight[k]);
     if (w == 0.0f) continue;
-    const std::size_t m = b.index[k];
-    const float* fl = filters_.data() + (2 * m) * length_;
+    const float* fl = filters_.data() + (2 * in.blend.index[k]) * length_;
     const float* fr = fl + length_;
     for (std::size_t i = 0; i < n; ++i) {
       left[i] += w * fl[i];
       right[i] += w * fr[i];
     }
-    out.left_s += b.weight[k] * delays_[m].left_s;
-    out.right_s += b.weight[k] * delays_[m].right_s;
-    log_energy[0] += b.weight[k] * std::log(energies_[m][0]);
-    log_energy[1] += b.weight[k] * std::log(energies_[m][1]);
   }
-  // Summing responses that differ in fine structure loses energy mid-way
-  // between measurements (most in the shadowed ear), which would make the
-  // ILD dip and bump as a source moves. Each ear is rescaled to the energy
-  // interpolated in dB, so the broadband level moves smoothly.
   for (std::size_t ear = 0; ear < 2; ++ear) {
     const std::span<float> f = ear == 0 ? left : right;
     double e = 0.0;
     for (std::size_t i = 0; i < n; ++i) e += double(f[i]) * f[i];
     if (e > 0.0) {
-      const auto g = static_cast<float>(std::sqrt(std::exp(log_energy[ear]) / e));
+      const auto g = static_cast<float>(std::sqrt(in.energy[ear] / e));
       for (std::size_t i = 0; i < n; ++i) f[i] *= g;
     }
   }
-  if (parametric_radius_) {
-    const double mid = 0.5 * (out.left_s + out.right_s);
-    const double itd = woodworth_itd(azimuth, elevation, *parametric_radius_);
-    out = {mid - 0.5 * itd, mid + 0.5 * itd};
-    // Keep both delays non-negative (a constant shift is latency, not a cue).
-    const double lo = std::min(out.left_s, out.right_s);
-    if (lo < 0.0) out = {out.left_s - lo, out.right_s - lo};
-  }
-  return out;
+  return in.delays;
 }
 
 }  // namespace earshot::hrtf

@@ -8,6 +8,7 @@
 // linearly, so a moving source never clicks.
 #pragma once
 
+#include <array>
 #include <complex>
 #include <span>
 #include <vector>
@@ -26,6 +27,12 @@ class BinauralConvolver {
   /// during the next process().
   void set_filters(std::span<const float> left, std::span<const float> right);
 
+  /// New filters given as partitioned spectra (as HrtfSpectra holds them):
+  /// write partitions() * (block() + 1) bins per ear into the two spans, then
+  /// call end_filter_update(). Same effect as set_filters; no FFT.
+  [[nodiscard]] std::array<std::span<std::complex<float>>, 2> begin_filter_update();
+  void end_filter_update();
+
   /// One block: `in` and both outputs hold block() samples.
   void process(std::span<const float> in, std::span<float> left, std::span<float> right);
 
@@ -37,7 +44,7 @@ class BinauralConvolver {
 
  private:
   using Spectrum = std::vector<std::complex<float>>;
-  void transform_filter(std::span<const float> ir, Spectrum& bank);
+  void transform_filter(std::span<const float> ir, std::span<std::complex<float>> bank);
   void convolve(const Spectrum& bank, std::span<float> out);
 
   std::size_t block_, parts_, bins_;

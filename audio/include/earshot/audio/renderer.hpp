@@ -27,6 +27,7 @@
 #include "earshot/audio/cone.hpp"
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
+#include "earshot/audio/hrtf_spectra.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
 namespace earshot::audio {
@@ -101,7 +102,12 @@ class Renderer {
 
  private:
   struct Voice;
+  void update_filters(Voice& v, const hrtf::Interpolation& in);
+  /// cos(0.25 deg): how far a source's direction moves before new filters.
+  static constexpr double kFilterStepCosine = 0.99999048;
+
   std::shared_ptr<const hrtf::HrtfSet> hrtf_;
+  std::shared_ptr<const HrtfSpectra> spectra_;
   RendererConfig cfg_;
   ListenerState listener_;
   std::vector<std::unique_ptr<Voice>> voices_;

@@ -50,6 +50,15 @@ struct Direction {
 
 enum class Ear { left = 0, right = 1 };
 
+/// How a direction is made from the measurements: which three and their
+/// weights, the interpolated delays, and the energy each ear's blended filter
+/// should have (interpolated in dB; the blend itself loses some mid-way).
+struct Interpolation {
+  Blend blend;
+  Delays delays;
+  std::array<double, 2> energy{1.0, 1.0};  ///< [left, right], sum of squared taps
+};
+
 /// Head radii of the thesis's listener sizes.
 enum class HeadSize { small, medium, large };
 [[nodiscard]] double head_radius_m(HeadSize s);
@@ -86,6 +95,11 @@ class HrtfSet {
   /// Filters and delays for any direction; `left` and `right` must hold
   /// filter_length() samples. Does not allocate.
   Delays lookup(double azimuth, double elevation, std::span<float> left, std::span<float> right) const;
+
+  /// The recipe for any direction without blending the filters (callers
+  /// that keep the measurements in another form, e.g. as spectra, blend
+  /// them by `blend` and scale each ear to `energy`). Does not allocate.
+  [[nodiscard]] Interpolation interpolate(double azimuth, double elevation) const;
 
   /// With a head radius, lookup returns Woodworth delays (both ears around
   /// a common centre) instead of the measured ones; nullopt restores them.

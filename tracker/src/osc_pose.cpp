@@ -24,13 +24,22 @@ std::nullopt_t drop(std::string* why, const std::string& msg) {
 }
 
 /// The arguments as doubles, when every one is a number.
+/// liblo's arguments sit on 4-byte boundaries inside the message, so a
+/// double may be misaligned for lo_arg: copy the bytes out, never dereference.
+template <class T>
+T arg_as(const lo_arg* a) {
+  T v;
+  std::memcpy(&v, static_cast<const void*>(a), sizeof v);
+  return v;
+}
+
 std::optional<std::vector<double>> numbers(std::string_view types, lo_arg** argv) {
   std::vector<double> v;
   for (std::size_t i = 0; i < types.size(); ++i) {
     switch (types[i]) {
-      case LO_FLOAT: v.push_back(static_cast<double>(argv[i]->f)); break;
-      case LO_DOUBLE: v.push_back(argv[i]->d); break;
-      case LO_INT32: v.push_back(static_cast<double>(argv[i]->i)); break;
+      case LO_FLOAT: v.push_back(static_cast<double>(arg_as<float>(argv[i]))); break;
+      case LO_DOUBLE: v.push_back(arg_as<double>(argv[i])); break;
+      case LO_INT32: v.push_back(static_cast<double>(arg_as<std::int32_t>(argv[i]))); break;
       default: return std::nullopt;
     }
   }

@@ -65,9 +65,15 @@ void BinauralConvolver::convolve(const Spectrum& bank, std::span<float> out) {
   for (std::size_t p = 0; p < parts_; ++p) {
     // Partition p meets the input spectrum of p blocks ago.
     const std::size_t h = (head_ + parts_ - p) % parts_;
-    const std::complex<float>* x = history_.data() + h * bins_;
-    const std::complex<float>* f = bank.data() + p * bins_;
-    for (std::size_t k = 0; k < bins_; ++k) acc_[k] += x[k] * f[k];
+    // std::complex's operator* guards against NaN and infinity and so does
+    // not vectorise; the plain formula on interleaved floats does.
+    const float* x = reinterpret_cast<const float*>(history_.data() + h * bins_);
+    const float* f = reinterpret_cast<const float*>(bank.data() + p * bins_);
+    float* a = reinterpret_cast<float*>(acc_.data());
+    for (std::size_t k = 0; k < 2 * bins_; k += 2) {
+      a[k] += x[k] * f[k] - x[k + 1] * f[k + 1];
+      a[k + 1] += x[k] * f[k + 1] + x[k + 1] * f[k];
+    }
   }
   fft_.inverse(acc_, time_);
   std::copy_n(time_.begin() + static_cast<std::ptrdiff_t>(block_), block_, out.begin());  // overlap-save: keep the last B

@@ -79,9 +79,13 @@ void FractionalDelay::process(std::span<const float> in, std::span<float> out, d
     const std::size_t first = (write_ + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
     const float* x = ring_.data() + first;
     const float* k = kernels_ + phase * kTaps;
-    float acc = 0.0f;
-    for (std::size_t t = 0; t < kTaps; ++t) acc += k[t] * x[t];
-    out[i] = acc;
+    // Lane-wise partial sums the compiler turns into SIMD, then a fixed
+    // summation order: fast, and the same result on every run.
+    std::array<float, kTaps / 2> lanes;
+    for (std::size_t t = 0; t < kTaps / 2; ++t) lanes[t] = k[t] * x[t] + k[t + kTaps / 2] * x[t + kTaps / 2];
+    for (std::size_t w = kTaps / 4; w > 0; w /= 2)
+      for (std::size_t t = 0; t < w; ++t) lanes[t] += lanes[t + w];
+    out[i] = lanes[0];
     write_ = (write_ + 1) & mask;
   }
   delay_ = target;

@@ -56,6 +56,7 @@ struct Renderer::Voice {
   std::array<double, 2> ear_gain{1.0, 1.0};       // brings each blended filter to its interpolated energy
   std::array<double, 2> ear_gain_prev{-1.0, -1.0};  // last block's (< 0: none yet)
   Vec3 filter_dir{0, 0, 0};  // head-frame direction of the filters in use (zero: none yet)
+  std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
   double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
   hrtf::Delays delays{};
   std::optional<Vec3> moved_from;  // the source's position in the previous block
@@ -106,6 +107,7 @@ int Renderer::add_source(const SourceState& s) {
   v.ear_gain = {1.0, 1.0};
   v.ear_gain_prev = {-1.0, -1.0};
   v.filter_dir = {0, 0, 0};
+  v.triangle = hrtf::SphereTriangulation::kNoHint;
   v.azimuth = v.elevation = 1e9;
   v.moved_from.reset();
   v.air.reset();
@@ -139,7 +141,8 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
     const HeadRelative hr = head_relative(v.state.position, frame);
     if (hr.azimuth != v.azimuth || hr.elevation != v.elevation) {
-      const hrtf::Interpolation in = hrtf_->interpolate(hr.azimuth, hr.elevation);
+      const hrtf::Interpolation in = hrtf_->interpolate(hr.azimuth, hr.elevation, v.triangle);
+      v.triangle = in.blend.triangle;
       v.delays = in.delays;  // the ITD follows every move, through the delay lines
       // New filters (and their crossfade) once the direction has moved by
       // kFilterStep: below that the filters' change is far below what anyone

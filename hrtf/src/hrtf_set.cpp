@@ -236,10 +236,10 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   return set;
 }
 
-Interpolation HrtfSet::interpolate(double azimuth, double elevation) const {
+Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32_t hint) const {
   const Dir d{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
   Interpolation out;
-  out.blend = triangulation_->locate(d);
+  out.blend = triangulation_->locate(d, hint);
   std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies
   for (std::size_t k = 0; k < 3; ++k) {
     const double w = out.blend.weight[k];

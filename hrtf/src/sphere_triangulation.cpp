@@ -161,11 +161,12 @@ std::size_t SphereTriangulation::cell_of(const Dir& d) const {
   return static_cast<std::size_t>(ia * kEl + ie);
 }
 
-Blend SphereTriangulation::locate(const Dir& d) const {
+Blend SphereTriangulation::locate(const Dir& d, std::uint32_t hint) const {
   std::array<double, 3> w{};
   const Triangle* hit = nullptr;
-  const std::size_t c = cell_of(d);
-  for (std::uint32_t i = cell_start_[c]; i < cell_start_[c + 1] && !hit; ++i)
+  if (hint < tris_.size() && weights(tris_[hint], d, w)) hit = &tris_[hint];
+  const std::size_t c = hit ? 0 : cell_of(d);
+  for (std::uint32_t i = hit ? cell_start_[c + 1] : cell_start_[c]; i < cell_start_[c + 1] && !hit; ++i)
     if (weights(tris_[cell_tris_[i]], d, w)) hit = &tris_[cell_tris_[i]];
   for (std::size_t i = 0; i < tris_.size() && !hit; ++i)  // a sliver the grid missed
     if (weights(tris_[i], d, w)) hit = &tris_[i];
@@ -177,6 +178,7 @@ Blend SphereTriangulation::locate(const Dir& d) const {
   }
   const double s = std::max(0.0, w[0]) + std::max(0.0, w[1]) + std::max(0.0, w[2]);
   b.index = hit->v;
+  b.triangle = static_cast<std::uint32_t>(hit - tris_.data());
   for (int k = 0; k < 3; ++k) b.weight[static_cast<std::size_t>(k)] = std::max(0.0, w[static_cast<std::size_t>(k)]) / s;
   return b;
 }

@@ -99,7 +99,9 @@ class HrtfSet {
   /// The recipe for any direction without blending the filters (callers
   /// that keep the measurements in another form, e.g. as spectra, blend
   /// them by `blend` and scale each ear to `energy`). Does not allocate.
-  [[nodiscard]] Interpolation interpolate(double azimuth, double elevation) const;
+  /// `hint`: the previous call's blend.triangle for the same source.
+  [[nodiscard]] Interpolation interpolate(double azimuth, double elevation,
+                                          std::uint32_t hint = SphereTriangulation::kNoHint) const;
 
   /// With a head radius, lookup returns Woodworth delays (both ears around
   /// a common centre) instead of the measured ones; nullopt restores them.

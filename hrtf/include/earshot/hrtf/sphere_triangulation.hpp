@@ -17,6 +17,7 @@ using Dir = std::array<double, 3>;  ///< unit vector
 struct Blend {
   std::array<std::uint32_t, 3> index{};
   std::array<double, 3> weight{};
+  std::uint32_t triangle = 0;  ///< which hull triangle; a hint for the next locate()
 };
 
 class SphereTriangulation {
@@ -26,7 +27,10 @@ class SphereTriangulation {
   explicit SphereTriangulation(std::span<const Dir> dirs);
 
   /// Weights of the triangle the ray through `d` crosses. No allocation.
-  [[nodiscard]] Blend locate(const Dir& d) const;
+  /// `hint`: a triangle to try first (a moving source is usually still in
+  /// the one it was in last block).
+  [[nodiscard]] Blend locate(const Dir& d, std::uint32_t hint = kNoHint) const;
+  static constexpr std::uint32_t kNoHint = 0xffffffffu;
 
   [[nodiscard]] std::size_t triangle_count() const { return tris_.size(); }
 

@@ -12,6 +12,7 @@ packages=(
   libmysofa-dev libmysofa1   # SOFA HRTF files; ships the MIT KEMAR default set
   libkissfft-dev         # FFT for partitioned convolution (BSD licence, fit for the plugin)
   libsndfile1-dev        # WAV/FLAC/OGG reading and writing
+  libsamplerate0-dev     # resampling scene audio files to the render rate
   libgtest-dev libgmock-dev  # unit tests
   libbenchmark-dev       # benchmarks (tests/bench)
   libhidapi-dev          # Wii Remote over HID (hidraw backend), live tracker

@@ -5,6 +5,7 @@
 
 #include "earshot/errors.hpp"
 #include "render_command.hpp"
+#include "scene_commands.hpp"
 #include "track_commands.hpp"
 
 int main(int argc, char** argv) {
@@ -17,6 +18,9 @@ int main(int argc, char** argv) {
   earshot::app::add_track_commands(*track);
   earshot::app::add_demo_command(app);
   earshot::app::add_render_command(app);
+  auto* scene = app.add_subcommand("scene", "Scene JSON: sample its sources' paths");
+  scene->require_subcommand(1);
+  earshot::app::add_scene_commands(*scene);
 
   try {
     app.parse(argc, argv);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene_render.hpp"
 
 namespace earshot::app {
@@ -32,7 +33,9 @@ void progress_bar(double f) {
 void add_render_command(CLI::App& app) {
   auto a = std::make_shared<RenderArgs>();
   auto* cmd = app.add_subcommand("render", "Render a Scene JSON offline to a WAV file (deterministic)");
-  cmd->add_option("--scene,-s", a->scene, "Scene JSON")->required();
+  cmd->add_option("--scene,-s", a->scene,
+                  "Scene JSON file, or a shipped preset's name (manual, circles, traffic, zoo, teleconference)")
+      ->required();
   cmd->add_option("--out,-o", a->out, "WAV file to write")->required();
   cmd->add_option("--duration", a->duration, "Seconds (default: the scene's duration_s)");
   cmd->add_option("--rate", a->rate, "Sample rate, Hz (default: the scene's sample_rate)");
@@ -55,7 +58,7 @@ void add_render_command(CLI::App& app) {
     else
       throw InputError::at("--format", 0, "", "unknown format '" + a->format + "' (float, pcm24)");
     if (isatty(STDERR_FILENO)) o.progress = progress_bar;
-    const auto scene = scenes::load_scene(a->scene);
+    const auto scene = scenes::load_scene(scenes::resolve_scene_argument(a->scene));
     const auto st = scenes::render_scene(scene, o);
     std::printf("wrote %s: %zu frames, %zu sources, peak %.3f\n", a->out.c_str(), st.frames, scene.sources.size(),
                 st.peak);

@@ -41,6 +41,7 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   audio::Renderer renderer(hrtf, cfg);
   std::vector<SignalSource> signals;
   std::vector<int> ids;
+  std::vector<audio::SourceState> states;
   for (const auto& s : scene.sources) {
     signals.emplace_back(s.signal, rate);
     audio::SourceState st;
@@ -50,6 +51,7 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
     st.reverb_send = s.reverb_send_db <= -120 ? 0.0 : db(s.reverb_send_db);
     st.air_absorption = s.air_absorption;
     ids.push_back(renderer.add_source(st));
+    states.push_back(st);
   }
   // The room: the renderer's send bus through the reverb, back into the next block's mix.
   std::optional<audio::RoomReverb> room;
@@ -75,6 +77,13 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   while (done < total) {
     const double t = static_cast<double>(done) / rate;
     renderer.set_listener(track ? track->at(t) : fixed);
+    // Moving sources: the path's position at the block's start; the renderer
+    // glides the propagation delay across the block, so Doppler follows.
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (scene.sources[i].path) {
+        states[i].position = source_position(scene.sources[i], t);
+        renderer.set_source(ids[i], states[i]);
+      }
     for (std::size_t i = 0; i < ids.size(); ++i) signals[i].generate(renderer.source_input(ids[i]));
     renderer.render(l, r);
     if (room) room->process(renderer.reverb_send(), renderer.return_left(), renderer.return_right());

@@ -28,20 +28,36 @@
 #include <vector>
 
 #include "earshot/audio/distance_model.hpp"
+#include "earshot/scenes/motion_path.hpp"
+#include "earshot/scenes/sounds.hpp"
 
 namespace earshot::scenes {
 
+/// A source's sound. `type` picks one generator; only its fields are used
+/// (the synthesised sounds' fields are documented in sounds.hpp).
 struct Signal {
-  enum class Type { noise, sine, impulse, file } type = Type::noise;
+  enum class Type { noise, sine, impulse, file, voice, talk, siren, birds, engine, horn, footsteps, ambience, animal };
+  Type type = Type::noise;
   std::uint64_t seed = 1;
   double frequency_hz = 440.0;
-  std::filesystem::path path;
+  std::filesystem::path path;  ///< file: any rate, resampled to the scene's
+  bool loop = false;           ///< file: start again at the end (else silence)
+  VoiceParams voice;
+  TalkParams talk;
+  SirenParams siren;
+  BirdsParams birds;
+  EngineParams engine;
+  HornParams horn;
+  FootstepsParams footsteps;
+  AmbienceParams ambience;
+  AnimalParams animal;
 };
 
 struct SceneSource {
   std::string name;
   Signal signal;
   std::array<double, 3> position{0, 0, -1};
+  std::optional<MotionPath> path;  ///< replaces position when set
   double gain_db = 0.0;
   audio::DistanceParams distance{};
   double reverb_send_db = -120.0;
@@ -55,6 +71,7 @@ struct SceneListener {
 };
 
 struct Scene {
+  std::string description;       ///< what the scene is, its little story
   double duration_s = 5.0;
   double sample_rate = 48000.0;
   std::string room = "none";    ///< "none" or a room preset name
@@ -65,6 +82,9 @@ struct Scene {
   std::optional<std::filesystem::path> pose_track;
   std::vector<SceneSource> sources;
 };
+
+/// Where a source is at time t: its path's position, else its fixed position.
+[[nodiscard]] Point3 source_position(const SceneSource& s, double t);
 
 /// Parses Scene JSON text; `origin` names it in errors; relative paths are
 /// resolved against `base_dir`. Throws earshot::InputError.

@@ -1,0 +1,321 @@
+/* Earshot: head-tracked binaural rendering behind a small C API.
+ *
+ * The shape is OpenAL's: a world (OpenAL's context) at one sample rate and
+ * block size; one listener; sources with OpenAL's properties; buffers of
+ * mono audio; a room reverb on a send bus; and a head tracker whose pose
+ * turns the listener's head. Names follow OpenAL's discipline with an `es`
+ * prefix: functions esVerbNoun, enums ES_*, typed setters esSourcef /
+ * esSource3f / esSourcefv / esSourcei and matching esGet* getters.
+ *
+ * Handles are 32-bit names, never pointers. Each carries a generation, so a
+ * handle used after its object was deleted (a stale handle) is refused with
+ * ES_INVALID_WORLD / ES_INVALID_SOURCE / ES_INVALID_BUFFER, never followed.
+ * 0 is never a valid handle.
+ *
+ * Errors: every call returns an ESenum, ES_OK on success. Nothing is changed
+ * by a call that fails. esGetErrorMessage() says, for people, why the last
+ * failing call on a world failed (which argument, which value).
+ *
+ * Commit mode: in ES_IMMEDIATE mode (the default) every change is heard from
+ * the next block esRender() starts. In ES_DEFERRED mode changes are collected
+ * and become audible together, at one block boundary, after esCommit().
+ *
+ * Threads (see docs/PLUGIN.md):
+ *   - The control thread of a world is the thread that created it, until
+ *     another thread calls esSetControlThread(). Every call taking a world
+ *     (except those below) must come from it, else ES_WRONG_THREAD.
+ *   - esRender() may come from any one thread at a time (the audio thread);
+ *     it never blocks, allocates or locks. A second esRender() on the same
+ *     world while one is running gets ES_WRONG_THREAD.
+ *   - esGetHeadPose() and esGetErrorString() may come from any thread.
+ *   - Source callbacks (ESsourcecallback) run on the audio thread, inside
+ *     esRender().
+ *   - esDestroyWorld() must come from the control thread; it waits for a
+ *     running esRender() on that world to return.
+ *
+ * Units and frames: OpenAL's world frame (+x right, +y up, -z ahead),
+ * metres, seconds, Hz; angles of cones in degrees as OpenAL has them.
+ *
+ * Linking: link -learshot (pkg-config earshot, CMake find_package(earshot)),
+ * or dlopen("libearshot.so.0") and call esGetProcTable(ES_ABI_VERSION): the
+ * table holds every function below, and its version and size tell a host
+ * whether the library it loaded is the one it was built against.
+ */
+#ifndef EARSHOT_EARSHOT_H
+#define EARSHOT_EARSHOT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(EARSHOT_BUILDING_LIBRARY) && defined(__GNUC__)
+#define ES_API __attribute__((visibility("default")))
+#else
+#define ES_API
+#endif
+
+/* ABI version of the function table: major in the high 16 bits. A new
+ * minor version only appends functions to the table; a new major one breaks
+ * it. */
+#define ES_ABI_VERSION_MAJOR 1u
+#define ES_ABI_VERSION_MINOR 0u
+#define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
+
+typedef int32_t ESenum;
+typedef int32_t ESint;
+typedef uint32_t ESuint;
+typedef float ESfloat;
+typedef int32_t ESboolean;
+
+typedef uint32_t ESworld;
+typedef uint32_t ESsource;
+typedef uint32_t ESbuffer;
+
+#define ES_FALSE 0
+#define ES_TRUE 1
+
+/* ---- Error codes ------------------------------------------------------ */
+#define ES_OK 0
+#define ES_INVALID_WORLD 1     /* not a world, or a destroyed one */
+#define ES_INVALID_SOURCE 2    /* not a source of this world, or a deleted one */
+#define ES_INVALID_BUFFER 3    /* not a buffer of this world, or a deleted one */
+#define ES_INVALID_ENUM 4      /* a property that does not exist for this call */
+#define ES_INVALID_VALUE 5     /* out of range, NaN, infinite, a null pointer */
+#define ES_INVALID_OPERATION 6 /* not now (e.g. deleting a buffer a source plays) */
+#define ES_WRONG_THREAD 7      /* not the world's control thread; concurrent esRender */
+#define ES_OUT_OF_MEMORY 8     /* or out of slots: max sources, max buffers */
+#define ES_HRTF_ERROR 9        /* the SOFA file could not be loaded */
+#define ES_TRACKER_ERROR 10    /* the tracker source could not be started */
+
+/* ---- World ------------------------------------------------------------ */
+/* Fill with esWorldParamsDefault() and change what you need; `size` lets a
+ * newer library read an older caller's struct. */
+typedef struct ESworldparams {
+  ESuint size;              /* sizeof(ESworldparams) */
+  ESuint sample_rate;       /* Hz, 8000..192000; default 48000 */
+  ESuint block_size;        /* frames per esRender, 1..8192; default 128 */
+  ESuint max_sources;       /* 1..256; default 64 */
+  ESuint max_buffers;       /* 1..4096; default 256 */
+  ESfloat doppler_factor;   /* >= 0; default 1 (also esDopplerFactor) */
+  ESfloat speed_of_sound;   /* m/s, > 0; default 343.3 (also esSpeedOfSound) */
+  /* ES_FALSE (default): OpenAL's Doppler, from velocities, as a pitch shift.
+   * ES_TRUE: as `earshot render`: each source is delayed by its distance over
+   * the speed of sound, so motion itself makes the Doppler shift; velocities
+   * are then not used, and the Doppler factor and speed of sound are fixed
+   * at creation. */
+  ESboolean propagation_delay;
+  ESenum late_reverb;       /* ES_REVERB_FDN (default) or ES_REVERB_SCHROEDER */
+  const char *hrtf_path;    /* SOFA file; NULL: MIT KEMAR from libmysofa */
+} ESworldparams;
+
+#define ES_REVERB_FDN 0x0101
+#define ES_REVERB_SCHROEDER 0x0102
+
+/* World-wide properties (esWorldi / esGetWorldi). */
+#define ES_COMMIT_MODE 0x4001   /* ES_IMMEDIATE (default) or ES_DEFERRED */
+#define ES_IMMEDIATE 0x4002
+#define ES_DEFERRED 0x4003
+#define ES_SAMPLE_RATE 0x4004   /* get only */
+#define ES_BLOCK_SIZE 0x4005    /* get only */
+#define ES_MAX_SOURCES 0x4006   /* get only */
+#define ES_BLOCKS_RENDERED 0x4007 /* get only: esRender calls that rendered */
+
+/* ---- Listener (esListener*) ------------------------------------------- */
+#define ES_POSITION 0x1004      /* 3 floats, metres (listener and source) */
+#define ES_VELOCITY 0x1006      /* 3 floats, m/s (listener and source) */
+#define ES_GAIN 0x100A          /* float >= 0 (listener and source) */
+#define ES_ORIENTATION 0x100F   /* listener: 6 floats, "at" then "up" */
+#define ES_ORIENTATION_QUAT 0x3100 /* listener: 4 floats w, x, y, z (normalised) */
+
+/* ---- Sources (esSource*) ---------------------------------------------- */
+#define ES_SOURCE_RELATIVE 0x0202 /* int ES_TRUE / ES_FALSE */
+#define ES_CONE_INNER_ANGLE 0x1001 /* float degrees, 0..360 */
+#define ES_CONE_OUTER_ANGLE 0x1002 /* float degrees, 0..360 */
+#define ES_PITCH 0x1003          /* float, 1/16..16 */
+#define ES_DIRECTION 0x1005      /* 3 floats; zero: omnidirectional */
+#define ES_LOOPING 0x1007        /* int ES_TRUE / ES_FALSE */
+#define ES_BUFFER 0x1009         /* int: an ESbuffer, 0 for none */
+#define ES_MIN_GAIN 0x100D       /* float 0..1 */
+#define ES_MAX_GAIN 0x100E       /* float 0..1 */
+#define ES_SOURCE_STATE 0x1010   /* get only: ES_INITIAL/PLAYING/PAUSED/STOPPED */
+#define ES_REFERENCE_DISTANCE 0x1020 /* float >= 0 */
+#define ES_ROLLOFF_FACTOR 0x1021 /* float >= 0 */
+#define ES_CONE_OUTER_GAIN 0x1022 /* float 0..1 */
+#define ES_MAX_DISTANCE 0x1023   /* float >= 0 */
+#define ES_SAMPLE_OFFSET 0x1025  /* get only: playback position in buffer frames */
+#define ES_DISTANCE_MODEL 0xD000 /* int: one of the models below */
+#define ES_REVERB_SEND 0x20001   /* float 0..1: linear gain into the reverb */
+#define ES_AIR_ABSORPTION_FACTOR 0x20007 /* float 0..10 (OpenAL's) */
+
+#define ES_INITIAL 0x1011
+#define ES_PLAYING 0x1012
+#define ES_PAUSED 0x1013
+#define ES_STOPPED 0x1014
+
+#define ES_NONE 0
+#define ES_INVERSE_DISTANCE 0xD001
+#define ES_INVERSE_DISTANCE_CLAMPED 0xD002 /* the default */
+#define ES_LINEAR_DISTANCE 0xD003
+#define ES_LINEAR_DISTANCE_CLAMPED 0xD004
+#define ES_EXPONENT_DISTANCE 0xD005
+#define ES_EXPONENT_DISTANCE_CLAMPED 0xD006
+
+/* Audio pulled from the host, on the audio thread inside esRender: write
+ * `frames` mono samples at the world's rate to `out`. Pitch and Doppler are
+ * not applied to callback audio (the host owns its timeline). Must not
+ * block. */
+typedef void (*ESsourcecallback)(void *user, float *out, ESuint frames);
+
+/* ---- Reverb (esReverb*) ----------------------------------------------- */
+/* The room on the send bus: the thesis's Table 1 parameters, as OpenAL's
+ * EFX reverb fields (gains linear, times in seconds). Ranges are EFX's. */
+#define ES_REVERB_ENABLED 0x3000        /* int, default ES_FALSE */
+#define ES_REVERB_DENSITY 0x0001
+#define ES_REVERB_DIFFUSION 0x0002
+#define ES_REVERB_GAIN 0x0003
+#define ES_REVERB_GAINHF 0x0004
+#define ES_REVERB_DECAY_TIME 0x0005      /* Table 1: reverberation decay time */
+#define ES_REVERB_DECAY_HFRATIO 0x0006   /* Table 1: frequency decay ratio */
+#define ES_REVERB_REFLECTIONS_GAIN 0x0007
+#define ES_REVERB_REFLECTIONS_DELAY 0x0008 /* Table 1: early reflections delay */
+#define ES_REVERB_LATE_REVERB_GAIN 0x0009  /* Table 1: reverberation level */
+#define ES_REVERB_LATE_REVERB_DELAY 0x000A /* Table 1: reverberation delay */
+#define ES_REVERB_HFREFERENCE 0x000B
+#define ES_REVERB_WET_DB 0x3001           /* Table 1: wet level, dB (-120..20) */
+#define ES_REVERB_DRY_DB 0x3002           /* Table 1: dry level, dB (-120..20) */
+
+/* ---- Functions -------------------------------------------------------- */
+/* Always callable, any thread. */
+ES_API const char *esGetErrorString(ESenum error);
+ES_API void esWorldParamsDefault(ESworldparams *params);
+
+/* World life cycle (the calling thread becomes the control thread). */
+ES_API ESenum esCreateWorld(const ESworldparams *params, ESworld *world);
+ES_API ESenum esDestroyWorld(ESworld world);
+ES_API ESenum esSetControlThread(ESworld world);
+/* Why the last failing call on this world failed; "" if none failed yet.
+ * The text stays valid until the next failing call or esDestroyWorld.
+ * Control thread. */
+ES_API const char *esGetErrorMessage(ESworld world);
+
+ES_API ESenum esWorldi(ESworld world, ESenum param, ESint value);
+ES_API ESenum esGetWorldi(ESworld world, ESenum param, ESint *value);
+ES_API ESenum esDopplerFactor(ESworld world, ESfloat factor);
+ES_API ESenum esSpeedOfSound(ESworld world, ESfloat metres_per_second);
+/* Deferred mode: everything changed since the last commit is heard from the
+ * same block. In immediate mode a no-op. */
+ES_API ESenum esCommit(ESworld world);
+
+ES_API ESenum esListenerf(ESworld world, ESenum param, ESfloat value);
+ES_API ESenum esListener3f(ESworld world, ESenum param, ESfloat x, ESfloat y, ESfloat z);
+ES_API ESenum esListenerfv(ESworld world, ESenum param, const ESfloat *values);
+ES_API ESenum esGetListenerfv(ESworld world, ESenum param, ESfloat *values);
+
+/* Buffers: mono float samples at `sample_rate` (played resampled when it is
+ * not the world's). The samples are copied. */
+ES_API ESenum esCreateBuffer(ESworld world, const float *samples, ESuint frames, ESuint sample_rate,
+                             ESbuffer *buffer);
+/* ES_INVALID_OPERATION while a source has the buffer set. */
+ES_API ESenum esDeleteBuffer(ESworld world, ESbuffer buffer);
+
+ES_API ESenum esCreateSource(ESworld world, ESsource *source);
+ES_API ESenum esDeleteSource(ESworld world, ESsource source);
+ES_API ESenum esSourcef(ESworld world, ESsource source, ESenum param, ESfloat value);
+ES_API ESenum esSource3f(ESworld world, ESsource source, ESenum param, ESfloat x, ESfloat y, ESfloat z);
+ES_API ESenum esSourcefv(ESworld world, ESsource source, ESenum param, const ESfloat *values);
+ES_API ESenum esSourcei(ESworld world, ESsource source, ESenum param, ESint value);
+ES_API ESenum esGetSourcef(ESworld world, ESsource source, ESenum param, ESfloat *value);
+ES_API ESenum esGetSourcefv(ESworld world, ESsource source, ESenum param, ESfloat *values);
+ES_API ESenum esGetSourcei(ESworld world, ESsource source, ESenum param, ESint *value);
+/* Pull the source's audio from `callback` instead of a buffer (NULL: none). */
+ES_API ESenum esSourceCallback(ESworld world, ESsource source, ESsourcecallback callback, void *user);
+ES_API ESenum esSourcePlay(ESworld world, ESsource source);  /* from the start */
+ES_API ESenum esSourcePause(ESworld world, ESsource source);
+ES_API ESenum esSourceStop(ESworld world, ESsource source);
+ES_API ESenum esSourceRewind(ESworld world, ESsource source);
+
+/* The room: a preset by name ("generic", "concert-hall", ... see
+ * docs/ARCHITECTURE.md "Reverbs and rooms"), then any Table 1 field. */
+ES_API ESenum esReverbPreset(ESworld world, const char *name);
+ES_API ESenum esReverbf(ESworld world, ESenum param, ESfloat value);
+ES_API ESenum esReverbi(ESworld world, ESenum param, ESint value);
+ES_API ESenum esGetReverbf(ESworld world, ESenum param, ESfloat *value);
+
+/* Head tracking: start a live tracker on `spec` ("wiimote", "sim",
+ * "replay:DOTS.csv", "opentrack[:PORT]", "osc[:PORT]") and let its pose turn
+ * and move the head relative to the listener. NULL or "" detaches. The
+ * tracker runs on its own thread; esRender reads its newest pose once per
+ * block without waiting. */
+ES_API ESenum esAttachTracker(ESworld world, const char *spec);
+/* The tracker's current pose becomes neutral. */
+ES_API ESenum esRecenter(ESworld world);
+/* The head pose the last block used (identity without a tracker): position
+ * (3 floats, metres) and orientation (4 floats w, x, y, z). Any thread. */
+ES_API ESenum esGetHeadPose(ESworld world, ESfloat *position, ESfloat *orientation);
+/* A pose from the host's own tracker (or a recording): used until the next
+ * one, when no tracker is attached. Goes through the commit mode. */
+ES_API ESenum esSetHeadPose(ESworld world, const ESfloat *position, const ESfloat *orientation);
+
+/* One block: block_size frames into left and right. The audio thread. */
+ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
+
+/* ---- The function table, for hosts that dlopen the library ------------ */
+typedef struct ESproctable {
+  ESuint abi_version; /* ES_ABI_VERSION of the library */
+  ESuint size;        /* sizeof(ESproctable) of the library */
+  const char *(*GetErrorString)(ESenum);
+  void (*WorldParamsDefault)(ESworldparams *);
+  ESenum (*CreateWorld)(const ESworldparams *, ESworld *);
+  ESenum (*DestroyWorld)(ESworld);
+  ESenum (*SetControlThread)(ESworld);
+  const char *(*GetErrorMessage)(ESworld);
+  ESenum (*Worldi)(ESworld, ESenum, ESint);
+  ESenum (*GetWorldi)(ESworld, ESenum, ESint *);
+  ESenum (*DopplerFactor)(ESworld, ESfloat);
+  ESenum (*SpeedOfSound)(ESworld, ESfloat);
+  ESenum (*Commit)(ESworld);
+  ESenum (*Listenerf)(ESworld, ESenum, ESfloat);
+  ESenum (*Listener3f)(ESworld, ESenum, ESfloat, ESfloat, ESfloat);
+  ESenum (*Listenerfv)(ESworld, ESenum, const ESfloat *);
+  ESenum (*GetListenerfv)(ESworld, ESenum, ESfloat *);
+  ESenum (*CreateBuffer)(ESworld, const float *, ESuint, ESuint, ESbuffer *);
+  ESenum (*DeleteBuffer)(ESworld, ESbuffer);
+  ESenum (*CreateSource)(ESworld, ESsource *);
+  ESenum (*DeleteSource)(ESworld, ESsource);
+  ESenum (*Sourcef)(ESworld, ESsource, ESenum, ESfloat);
+  ESenum (*Source3f)(ESworld, ESsource, ESenum, ESfloat, ESfloat, ESfloat);
+  ESenum (*Sourcefv)(ESworld, ESsource, ESenum, const ESfloat *);
+  ESenum (*Sourcei)(ESworld, ESsource, ESenum, ESint);
+  ESenum (*GetSourcef)(ESworld, ESsource, ESenum, ESfloat *);
+  ESenum (*GetSourcefv)(ESworld, ESsource, ESenum, ESfloat *);
+  ESenum (*GetSourcei)(ESworld, ESsource, ESenum, ESint *);
+  ESenum (*SourceCallback)(ESworld, ESsource, ESsourcecallback, void *);
+  ESenum (*SourcePlay)(ESworld, ESsource);
+  ESenum (*SourcePause)(ESworld, ESsource);
+  ESenum (*SourceStop)(ESworld, ESsource);
+  ESenum (*SourceRewind)(ESworld, ESsource);
+  ESenum (*ReverbPreset)(ESworld, const char *);
+  ESenum (*Reverbf)(ESworld, ESenum, ESfloat);
+  ESenum (*Reverbi)(ESworld, ESenum, ESint);
+  ESenum (*GetReverbf)(ESworld, ESenum, ESfloat *);
+  ESenum (*AttachTracker)(ESworld, const char *);
+  ESenum (*Recenter)(ESworld);
+  ESenum (*GetHeadPose)(ESworld, ESfloat *, ESfloat *);
+  ESenum (*SetHeadPose)(ESworld, const ESfloat *, const ESfloat *);
+  ESenum (*Render)(ESworld, float *, float *, ESuint);
+} ESproctable;
+
+/* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),
+ * or NULL when this library does not implement it. The table is constant
+ * and lives as long as the library is loaded. */
+ES_API const ESproctable *esGetProcTable(ESuint abi_major);
+typedef const ESproctable *(*ESgetproctablefn)(ESuint abi_major);
+
+#ifdef __cplusplus
+} /* extern "C" */
+#endif
+
+#endif /* EARSHOT_EARSHOT_H */

@@ -1,0 +1,16 @@
+// A live tracker source from its spec: "wiimote", "sim", "replay:DOTS.csv",
+// "opentrack[:PORT]", "osc[:PORT]" (the same names as `earshot track live`).
+#pragma once
+
+#include <memory>
+#include <string_view>
+
+#include "earshot/tracker/frame_source.hpp"
+
+namespace earshot::plugin {
+
+/// Throws earshot::InputError for an unknown spec or a bad port, and
+/// whatever the source's constructor throws (no remote, port in use).
+[[nodiscard]] std::unique_ptr<tracker::FrameSource> make_frame_source(std::string_view spec);
+
+}  // namespace earshot::plugin

@@ -1,0 +1,304 @@
+#include "world.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <exception>
+
+#include "earshot/hrtf/hrtf_set.hpp"
+#include "earshot/tracker/live_tracker.hpp"
+#include "orientation.hpp"
+#include "tracker_spec.hpp"
+
+namespace earshot::plugin {
+namespace {
+
+constexpr ESenum state_of(unsigned i) {
+  constexpr std::array<ESenum, 4> states{ES_INITIAL, ES_PLAYING, ES_PAUSED, ES_STOPPED};
+  return states[i & 3u];
+}
+constexpr unsigned index_of(ESenum s) {
+  return s == ES_PLAYING ? 1u : s == ES_PAUSED ? 2u : s == ES_STOPPED ? 3u : 0u;
+}
+
+}  // namespace
+
+World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thread::get_id()) {
+  std::shared_ptr<const hrtf::HrtfSet> set;
+  try {
+    set = std::make_shared<const hrtf::HrtfSet>(hrtf::HrtfSet::load(
+        p.hrtf_path ? p.hrtf_path : hrtf::HrtfSet::kDefaultPath, static_cast<double>(p.sample_rate)));
+  } catch (const std::exception& e) {
+    throw Failure{ES_HRTF_ERROR, e.what()};
+  }
+  audio::RendererConfig cfg;
+  cfg.sample_rate = p.sample_rate;
+  cfg.block = p.block_size;
+  cfg.max_sources = p.max_sources;
+  cfg.speed_of_sound = p.speed_of_sound;
+  cfg.doppler_factor = propagation_delay() ? p.doppler_factor : 0.0;
+  renderer_ = std::make_unique<audio::Renderer>(set, cfg);
+  const audio::LateReverbType late =
+      p.late_reverb == ES_REVERB_SCHROEDER ? audio::LateReverbType::schroeder : audio::LateReverbType::fdn;
+  control_.room = audio::room_preset("generic");
+  room_ = std::make_unique<audio::RoomReverb>(cfg.sample_rate, cfg.block, control_.room, late);
+  control_.doppler_factor = p.doppler_factor;
+  control_.speed_of_sound = p.speed_of_sound;
+  control_.sources.assign(p.max_sources, SourceParams{});
+  for (auto& s : snaps_) s = control_;
+  source_generation_.assign(p.max_sources, 1);
+  buffers_.resize(p.max_buffers);
+  playback_.assign(p.max_sources, Playback{});
+  status_ = std::make_unique<std::atomic<std::uint64_t>[]>(p.max_sources);
+  offsets_ = std::make_unique<std::atomic<double>[]>(p.max_sources);
+  for (std::size_t i = 0; i < p.max_sources; ++i) {
+    status_[i].store(0);
+    offsets_[i].store(0.0);
+  }
+}
+
+World::~World() = default;
+
+void World::publish() {
+  snaps_[back_] = control_;  // same sizes: copies into the existing storage
+  back_ = middle_.exchange(back_ | kFresh, std::memory_order_acq_rel) & 3u;
+  reclaim_buffers();
+}
+
+// ---- sources ----
+
+std::optional<std::size_t> World::source_slot(ESsource s) const {
+  const std::size_t slot = (s & 0xFFFFu);
+  if (slot == 0 || slot > control_.sources.size()) return std::nullopt;
+  if (control_.sources[slot - 1].handle != s || s == 0) return std::nullopt;
+  return slot - 1;
+}
+
+ESsource World::create_source() {
+  for (std::size_t i = 0; i < control_.sources.size(); ++i) {
+    SourceParams& sp = control_.sources[i];
+    if (sp.handle != 0) continue;
+    const std::uint64_t serial = sp.play_serial;  // keeps counting across lives of the slot
+    sp = SourceParams{};
+    sp.play_serial = serial + 1;
+    sp.handle = (static_cast<ESsource>(source_generation_[i]) << 16) | static_cast<ESsource>(i + 1);
+    return sp.handle;
+  }
+  return 0;
+}
+
+void World::delete_source(std::size_t slot) {
+  SourceParams& sp = control_.sources[slot];
+  const std::uint64_t serial = sp.play_serial;
+  sp = SourceParams{};
+  sp.play_serial = serial + 1;
+  if (++source_generation_[slot] == 0) source_generation_[slot] = 1;
+}
+
+ESenum World::source_state(std::size_t slot) const {
+  const SourceParams& sp = control_.sources[slot];
+  const std::uint64_t st = status_[slot].load(std::memory_order_acquire);
+  if ((st >> 8) == sp.play_serial) return state_of(static_cast<unsigned>(st & 0xFFu));
+  return sp.play_state;
+}
+
+double World::source_offset(std::size_t slot) const {
+  const SourceParams& sp = control_.sources[slot];
+  const std::uint64_t st = status_[slot].load(std::memory_order_acquire);
+  if ((st >> 8) != sp.play_serial) return 0.0;
+  return offsets_[slot].load(std::memory_order_relaxed);
+}
+
+// ---- buffers ----
+
+std::optional<World::BufferInfo> World::buffer(ESbuffer b) const {
+  const std::size_t i = (b & 0xFFFFu);
+  if (i == 0 || i > buffers_.size()) return std::nullopt;
+  const Buffer& buf = buffers_[i - 1];
+  if (!buf.alive || (b >> 16) != buf.generation) return std::nullopt;
+  return BufferInfo{buf.samples.data(), buf.samples.size(), buf.rate / static_cast<double>(params_.sample_rate)};
+}
+
+ESbuffer World::create_buffer(const float* samples, std::size_t frames, double rate) {
+  reclaim_buffers();
+  for (std::size_t i = 0; i < buffers_.size(); ++i) {
+    Buffer& b = buffers_[i];
+    if (b.alive || !b.samples.empty()) continue;  // in use, or waiting to be reclaimed
+    b.samples.assign(samples, samples + frames);
+    for (float& x : b.samples)
+      if (!std::isfinite(x)) x = 0.0f;
+    b.rate = rate;
+    b.alive = true;
+    return (static_cast<ESbuffer>(b.generation) << 16) | static_cast<ESbuffer>(i + 1);
+  }
+  return 0;
+}
+
+bool World::delete_buffer(ESbuffer h) {
+  for (const SourceParams& sp : control_.sources)
+    if (sp.handle != 0 && sp.buffer == h) return false;
+  Buffer& b = buffers_[(h & 0xFFFFu) - 1];
+  b.alive = false;
+  if (++b.generation == 0) b.generation = 1;
+  reclaim_buffers();
+  return true;
+}
+
+void World::reclaim_buffers() {
+  for (Buffer& b : buffers_) {
+    if (b.alive || b.samples.empty()) continue;
+    const float* data = b.samples.data();
+    bool used = false;
+    for (const Snapshot* s : {&control_, &snaps_[0], &snaps_[1], &snaps_[2]})
+      for (const SourceParams& sp : s->sources) used = used || sp.data == data;
+    if (!used) std::vector<float>().swap(b.samples);
+  }
+}
+
+// ---- tracking ----
+
+void World::attach_tracker(const char* spec) {
+  tracker_on_.store(false, std::memory_order_release);
+  tracker_.reset();  // stops and joins the old one
+  if (!spec || !*spec) return;
+  try {
+    tracker_ = std::make_unique<tracker::LiveTracker>(make_frame_source(spec), tracker_slot_);
+  } catch (const std::exception& e) {
+    throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
+  }
+  tracker_on_.store(true, std::memory_order_release);
+}
+
+void World::recenter() {
+  if (tracker_) tracker_->recenter();
+}
+
+// ---- audio thread ----
+
+double World::doppler_shift(const SourceParams& sp, const Snapshot& s) const {
+  // OpenAL 1.1, section 3.5.2: f' = f (SS - DF vls) / (SS - DF vss), with the
+  // velocities projected on the listener-to-source line and clamped below SS / DF.
+  if (propagation_delay() || s.doppler_factor <= 0.0) return 1.0;
+  const Vec3 lp = sp.state.relative ? Vec3{0, 0, 0} : s.listener.position;
+  const Vec3 lv = sp.state.relative ? Vec3{0, 0, 0} : s.listener_velocity;
+  const Vec3 d{sp.state.position[0] - lp[0], sp.state.position[1] - lp[1], sp.state.position[2] - lp[2]};
+  const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (!(len > 1e-9)) return 1.0;
+  const double ss = s.speed_of_sound, df = s.doppler_factor;
+  const double limit = ss / df;
+  const double vls = std::min((lv[0] * d[0] + lv[1] * d[1] + lv[2] * d[2]) / len, limit);
+  const double vss = std::min((sp.velocity[0] * d[0] + sp.velocity[1] * d[1] + sp.velocity[2] * d[2]) / len, limit);
+  const double den = ss - df * vss;
+  if (!(den > 1e-9)) return 1.0;
+  const double shift = (ss - df * vls) / den;
+  return std::isfinite(shift) && shift > 0.0 ? shift : 1.0;
+}
+
+void World::feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double shift) {
+  Playback& pb = playback_[slot];
+  if (pb.handle != sp.handle) pb = Playback{sp.handle, 0, ES_INITIAL, 0.0};
+  if (pb.serial != sp.play_serial) {  // play, stop, pause or rewind since the last block
+    pb.serial = sp.play_serial;
+    if (sp.play_state == ES_PLAYING && pb.state != ES_PAUSED) pb.position = 0.0;
+    if (sp.play_state == ES_INITIAL || sp.play_state == ES_STOPPED) pb.position = 0.0;
+    pb.state = sp.play_state;
+  }
+  std::fill(in.begin(), in.end(), 0.0f);
+  if (sp.handle != 0 && pb.state == ES_PLAYING) {
+    if (sp.callback) {
+      sp.callback(sp.user, in.data(), static_cast<ESuint>(in.size()));
+      for (float& x : in)
+        if (!std::isfinite(x)) x = 0.0f;
+    } else if (sp.data && sp.frames > 0) {
+      const double step = std::clamp(sp.rate_ratio * sp.pitch * shift, 1.0 / 256.0, 64.0);
+      const auto n = static_cast<double>(sp.frames);
+      for (float& x : in) {
+        if (pb.position >= n) {
+          if (!sp.looping) {
+            pb.state = ES_STOPPED;
+            pb.position = 0.0;
+            break;
+          }
+          pb.position = std::fmod(pb.position, n);
+        }
+        const auto i = static_cast<std::size_t>(pb.position);
+        const double f = pb.position - static_cast<double>(i);
+        const float a = sp.data[i];
+        const float b = i + 1 < sp.frames ? sp.data[i + 1] : (sp.looping ? sp.data[0] : 0.0f);
+        x = static_cast<float>(a + (b - a) * f);  // linear interpolation
+        pb.position += step;
+      }
+    } else {
+      pb.state = ES_STOPPED;  // nothing to play
+    }
+  }
+  status_[slot].store((pb.serial << 8) | index_of(pb.state), std::memory_order_release);
+  offsets_[slot].store(pb.position, std::memory_order_relaxed);
+}
+
+void World::render(float* left, float* right) {
+  if (middle_.load(std::memory_order_acquire) & kFresh)
+    front_ = middle_.exchange(front_, std::memory_order_acq_rel) & 3u;
+  const Snapshot& s = snaps_[front_];
+
+  // The head: the tracker's newest pose (one attempt, never waiting), else the host's.
+  HeadPose head;
+  head.position = s.head_position;
+  head.orientation = s.head_orientation;
+  if (tracker_on_.load(std::memory_order_acquire)) {
+    if (auto p = tracker_slot_.try_load()) tracked_ = *p;
+    head.position = tracked_.position;
+    head.orientation = tracked_.orientation;
+  }
+  audio::ListenerState l = s.listener;
+  const Vec3 offset = rotate(l.orientation, head.position);
+  for (int i = 0; i < 3; ++i) l.position[i] += offset[i];
+  l.orientation = multiply(l.orientation, head.orientation);
+  renderer_->set_listener(l);
+  head.state = PoseState::tracking;
+  head.t = static_cast<double>(blocks_.load(std::memory_order_relaxed)) * static_cast<double>(params_.block_size) /
+           static_cast<double>(params_.sample_rate);
+  (void)used_pose_.publish(head);
+
+  // Sources: renderer voices are added as slots come into use (no allocation).
+  std::size_t highest = 0;
+  for (std::size_t i = 0; i < s.sources.size(); ++i)
+    if (s.sources[i].handle != 0) highest = i + 1;
+  while (voices_ < highest) {
+    audio::SourceState silent;
+    silent.gain = 0.0;
+    (void)renderer_->add_source(silent);
+    ++voices_;
+  }
+  for (std::size_t i = 0; i < voices_; ++i) {
+    const SourceParams& sp = s.sources[i];
+    audio::SourceState st = sp.state;
+    if (sp.handle == 0) {
+      st = audio::SourceState{};
+      st.position = s.sources[i].state.position;
+      st.gain = 0.0;
+    }
+    renderer_->set_source(static_cast<int>(i), st);
+    feed(i, sp, renderer_->source_input(static_cast<int>(i)), doppler_shift(sp, s));
+  }
+
+  std::span<float> l_out(left, params_.block_size), r_out(right, params_.block_size);
+  renderer_->render(l_out, r_out);
+
+  // The room on the send bus, back into the next block's mix (as earshot render).
+  if (s.room_serial != room_serial_seen_) {
+    room_serial_seen_ = s.room_serial;
+    try {
+      room_->update(s.room);  // validated on the control side: does not throw
+    } catch (...) {
+    }
+  }
+  if (s.reverb_enabled) {
+    if (!reverb_was_on_) room_->reset();
+    room_->process(renderer_->reverb_send(), renderer_->return_left(), renderer_->return_right());
+  }
+  reverb_was_on_ = s.reverb_enabled;
+  blocks_.fetch_add(1, std::memory_order_relaxed);
+}
+
+}  // namespace earshot::plugin

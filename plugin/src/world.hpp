@@ -1,0 +1,187 @@
+// One Earshot world behind the C API: the control side (what the host set),
+// the hand-off to the audio thread, and the audio side (esRender).
+//
+// Hand-off: the control thread keeps the whole world state in `control_`
+// and publishes a copy into a triple buffer (three preallocated snapshots):
+// in immediate mode after every change, in deferred mode on esCommit. The
+// audio thread, at the start of each block, takes the newest published
+// snapshot if there is one (an atomic exchange of indices: no lock, no
+// wait, no allocation), so everything in one snapshot is heard from the
+// same block. Play/stop/rewind are state plus a serial number, so they
+// survive the hand-off as state does.
+//
+// Buffers: the samples are owned by the control side. A deleted buffer's
+// samples are freed only when none of the three snapshots refers to them,
+// so the audio thread never reads freed memory.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "earshot/audio/renderer.hpp"
+#include "earshot/audio/room_reverb.hpp"
+#include "earshot/earshot.h"
+#include "earshot/pose_slot.hpp"
+
+namespace earshot::tracker {
+class LiveTracker;
+}
+
+namespace earshot::plugin {
+
+using audio::Quat;
+using audio::Vec3;
+
+/// A failed call: the code and, for people, why.
+struct Failure {
+  ESenum code;
+  std::string message;
+};
+
+/// A source as the host set it; trivially copyable, so snapshots copy cheaply.
+struct SourceParams {
+  ESsource handle = 0;  ///< 0: the slot is free
+  audio::SourceState state{};
+  Vec3 velocity{0, 0, 0};
+  double pitch = 1.0;
+  bool looping = false;
+  ESbuffer buffer = 0;
+  const float* data = nullptr;  ///< the buffer's samples (owned by the control side)
+  std::size_t frames = 0;
+  double rate_ratio = 1.0;  ///< buffer rate / world rate
+  ESsourcecallback callback = nullptr;
+  void* user = nullptr;
+  ESenum play_state = ES_INITIAL;  ///< requested: initial, playing, paused, stopped
+  std::uint64_t play_serial = 0;   ///< bumped by every play / stop / rewind
+};
+
+struct Snapshot {
+  audio::ListenerState listener{};
+  Vec3 listener_velocity{0, 0, 0};
+  Vec3 head_position{0, 0, 0};       ///< esSetHeadPose (no tracker)
+  Quat head_orientation{1, 0, 0, 0};
+  double doppler_factor = 1.0;
+  double speed_of_sound = 343.3;
+  bool reverb_enabled = false;
+  audio::RoomParams room{};
+  std::uint64_t room_serial = 0;
+  std::vector<SourceParams> sources;  ///< max_sources entries, sized once
+};
+
+class World {
+ public:
+  /// Throws Failure (ES_HRTF_ERROR, ES_INVALID_VALUE).
+  explicit World(const ESworldparams& p);
+  ~World();
+  World(const World&) = delete;
+  World& operator=(const World&) = delete;
+
+  // ---- control thread ----
+  [[nodiscard]] bool on_control_thread() const { return control_thread_.load() == std::this_thread::get_id(); }
+  void set_control_thread() { control_thread_.store(std::this_thread::get_id()); }
+  void set_error(std::string m) { error_ = std::move(m); }
+  [[nodiscard]] const char* error() const { return error_.c_str(); }
+
+  void set_commit_mode(bool deferred) { deferred_ = deferred; }
+  [[nodiscard]] bool deferred() const { return deferred_; }
+  void changed() { if (!deferred_) publish(); }  ///< after every change
+  void commit() { publish(); }
+
+  [[nodiscard]] Snapshot& state() { return control_; }
+  [[nodiscard]] const ESworldparams& params() const { return params_; }
+  [[nodiscard]] std::uint64_t blocks_rendered() const { return blocks_.load(std::memory_order_relaxed); }
+
+  /// The slot of a live source handle, or nullopt.
+  [[nodiscard]] std::optional<std::size_t> source_slot(ESsource s) const;
+  [[nodiscard]] ESsource create_source();  ///< 0 when all slots are in use
+  void delete_source(std::size_t slot);
+  /// What the host would see: the requested state, or the audio side's once it caught up.
+  [[nodiscard]] ESenum source_state(std::size_t slot) const;
+  [[nodiscard]] double source_offset(std::size_t slot) const;
+
+  struct BufferInfo {
+    const float* data;
+    std::size_t frames;
+    double rate_ratio;
+  };
+  [[nodiscard]] std::optional<BufferInfo> buffer(ESbuffer b) const;
+  [[nodiscard]] ESbuffer create_buffer(const float* samples, std::size_t frames, double rate);  ///< 0: full
+  /// False while a source has it set.
+  bool delete_buffer(ESbuffer b);
+
+  void attach_tracker(const char* spec);  ///< throws Failure
+  void recenter();
+  [[nodiscard]] bool propagation_delay() const { return params_.propagation_delay != ES_FALSE; }
+
+  // ---- any thread ----
+  [[nodiscard]] HeadPose head_pose() const { return used_pose_.load(); }
+
+  // ---- audio thread ----
+  /// False when another render is running.
+  [[nodiscard]] bool begin_render() { return !rendering_.exchange(true, std::memory_order_acquire); }
+  void end_render() { rendering_.store(false, std::memory_order_release); }
+  void render(float* left, float* right);
+
+ private:
+  struct Playback {
+    ESsource handle = 0;
+    std::uint64_t serial = 0;
+    ESenum state = ES_INITIAL;
+    double position = 0.0;  ///< in buffer frames
+  };
+  struct Buffer {
+    std::uint16_t generation = 1;
+    bool alive = false;
+    std::vector<float> samples;
+    double rate = 0.0;
+  };
+
+  void publish();
+  void reclaim_buffers();
+  void feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double doppler_shift);
+  [[nodiscard]] double doppler_shift(const SourceParams& sp, const Snapshot& s) const;
+
+  ESworldparams params_;
+  std::atomic<std::thread::id> control_thread_;
+  std::string error_;
+  bool deferred_ = false;
+
+  // control side
+  Snapshot control_;
+  std::vector<std::uint16_t> source_generation_;
+  std::vector<Buffer> buffers_;
+
+  // the triple buffer
+  std::array<Snapshot, 3> snaps_;
+  static constexpr unsigned kFresh = 4u;
+  std::atomic<unsigned> middle_{1};
+  unsigned back_ = 0;   // the control thread's
+  unsigned front_ = 2;  // the audio thread's
+
+  // audio side
+  std::atomic<bool> rendering_{false};
+  std::atomic<std::uint64_t> blocks_{0};
+  std::unique_ptr<audio::Renderer> renderer_;
+  std::unique_ptr<audio::RoomReverb> room_;
+  std::uint64_t room_serial_seen_ = 0;
+  bool reverb_was_on_ = false;
+  std::size_t voices_ = 0;  // renderer voices added so far
+  std::vector<Playback> playback_;
+  std::unique_ptr<std::atomic<std::uint64_t>[]> status_;   // serial << 8 | state index
+  std::unique_ptr<std::atomic<double>[]> offsets_;
+  HeadPose tracked_{};
+
+  // tracking
+  PoseSlot tracker_slot_;
+  std::atomic<bool> tracker_on_{false};
+  std::unique_ptr<tracker::LiveTracker> tracker_;
+  PoseSlot used_pose_;  // written by the audio thread, read anywhere
+};
+
+}  // namespace earshot::plugin

@@ -18,7 +18,7 @@ packages=(
   libhidapi-dev          # Wii Remote over HID (hidraw backend), live tracker
   liblo-dev              # OSC pose input, live tracker
   libopencv-dev          # reference PnP solver, only in tests and benchmarks
-  libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks
+  libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks, the plugin's OpenAL bridge
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes
   python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
 )

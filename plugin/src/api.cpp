@@ -277,6 +277,7 @@ ES_API ESenum esDestroyWorld(ESworld h) {
     WorldSlot& s = r.slots[i - 1];
     if (s.handle.load() != h) return ES_INVALID_WORLD;
     if (!s.owner->on_control_thread()) return ES_WRONG_THREAD;
+    if (s.owner->rendering_here()) return ES_INVALID_OPERATION;  // from a callback: would wait for itself
     s.handle.store(0);                                          // no new call gets in
     while (s.users.load() != 0) std::this_thread::yield();      // calls inside finish
     s.world.store(nullptr);
@@ -510,7 +511,7 @@ ES_API ESenum esSource3f(ESworld h, ESsource s, ESenum param, ESfloat x, ESfloat
 }
 
 ES_API ESenum esSourcei(ESworld h, ESsource s, ESenum param, ESint value) {
-  return with_source(h, s, "esSourcei", [&](World& w, SourceParams& sp, std::size_t) -> ESenum {
+  return with_source(h, s, "esSourcei", [&](World& w, SourceParams& sp, std::size_t slot) -> ESenum {
     switch (param) {
       case ES_SOURCE_RELATIVE:
       case ES_LOOPING:
@@ -527,7 +528,7 @@ ES_API ESenum esSourcei(ESworld h, ESsource s, ESenum param, ESint value) {
         const auto b = static_cast<ESbuffer>(value);
         if (b != 0 && !w.buffer(b))
           return fail(w, ES_INVALID_BUFFER, format("esSourcei: 0x%08x is not a buffer of this world", b));
-        if (sp.play_state == ES_PLAYING || sp.play_state == ES_PAUSED)
+        if (const ESenum now = w.source_state(slot); now == ES_PLAYING || now == ES_PAUSED)
           return fail(w, ES_INVALID_OPERATION, "esSourcei: ES_BUFFER on a playing or paused source (stop it first)");
         if (b == 0) {
           sp.buffer = 0;

@@ -124,8 +124,19 @@ class World {
 
   // ---- audio thread ----
   /// False when another render is running.
-  [[nodiscard]] bool begin_render() { return !rendering_.exchange(true, std::memory_order_acquire); }
-  void end_render() { rendering_.store(false, std::memory_order_release); }
+  [[nodiscard]] bool begin_render() {
+    if (rendering_.exchange(true, std::memory_order_acquire)) return false;
+    render_thread_.store(std::this_thread::get_id(), std::memory_order_relaxed);
+    return true;
+  }
+  void end_render() {
+    render_thread_.store(std::thread::id{}, std::memory_order_relaxed);
+    rendering_.store(false, std::memory_order_release);
+  }
+  /// True inside esRender on this thread (e.g. in a source callback).
+  [[nodiscard]] bool rendering_here() const {
+    return render_thread_.load(std::memory_order_relaxed) == std::this_thread::get_id();
+  }
   void render(float* left, float* right);
 
  private:
@@ -166,6 +177,7 @@ class World {
 
   // audio side
   std::atomic<bool> rendering_{false};
+  std::atomic<std::thread::id> render_thread_{};
   std::atomic<std::uint64_t> blocks_{0};
   std::unique_ptr<audio::Renderer> renderer_;
   std::unique_ptr<audio::RoomReverb> room_;

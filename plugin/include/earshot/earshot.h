@@ -31,7 +31,8 @@
  *   - Source callbacks (ESsourcecallback) run on the audio thread, inside
  *     esRender().
  *   - esDestroyWorld() must come from the control thread; it waits for a
- *     running esRender() on that world to return.
+ *     running esRender() on that world to return (from inside esRender, in a
+ *     callback: ES_INVALID_OPERATION).
  *
  * Units and frames: OpenAL's world frame (+x right, +y up, -z ahead),
  * metres, seconds, Hz; angles of cones in degrees as OpenAL has them.

@@ -203,12 +203,13 @@ TEST(PluginDeferred, SwitchingToImmediateAppliesPendingChanges) {
 
 struct Reentry {
   ESworld world = 0;
-  ESenum result = ES_OK;
+  ESenum result = ES_OK, destroy = ES_OK;
 };
 void reenter(void* user, float* out, ESuint frames) {
   auto* r = static_cast<Reentry*>(user);
   std::array<float, kBlock> l{}, rr{};
   r->result = esRender(r->world, l.data(), rr.data(), kBlock);  // a second render while one runs
+  r->destroy = esDestroyWorld(r->world);                        // would wait for itself
   for (ESuint i = 0; i < frames; ++i) out[i] = std::numeric_limits<float>::quiet_NaN();
 }
 
@@ -312,6 +313,7 @@ TEST(PluginMisuse, BadHandlesValuesAndThreadsChangeNothing) {
   ASSERT_EQ(esSourcePlay(w, cb), ES_OK);
   ASSERT_EQ(esRender(w, l.data(), r.data(), kBlock), ES_OK);
   EXPECT_EQ(re.result, ES_WRONG_THREAD);
+  EXPECT_EQ(re.destroy, ES_INVALID_OPERATION);
   for (std::size_t i = 0; i < kBlock; ++i) ASSERT_TRUE(std::isfinite(l[i]) && std::isfinite(r[i]));
 
   // Calls after destroy, and a handle of a new world in the same slot.
@@ -358,6 +360,13 @@ TEST(PluginRealtime, RenderTakesNoAllocationOrLock) {
     ASSERT_EQ(esSourcei(w, s[i], ES_LOOPING, ES_TRUE), ES_OK);
     ASSERT_EQ(esSourcef(w, s[i], ES_REVERB_SEND, 0.3f), ES_OK);
     ASSERT_EQ(esSourcePlay(w, s[i]), ES_OK);
+  }
+  {
+    // The probe sees the library's own allocations (so zero below means zero).
+    earshot::testing::AllocationProbe probe;
+    ESbuffer extra = 0;
+    ASSERT_EQ(esCreateBuffer(w, x.data(), 4800, 48000, &extra), ES_OK);
+    EXPECT_GT(probe.count(), 0u);
   }
   std::array<float, 128> l{}, r{};
   ASSERT_EQ(esRender(w, l.data(), r.data(), 128), ES_OK);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <new>
@@ -226,6 +227,7 @@ ES_API void esWorldParamsDefault(ESworldparams* p) {
   p->speed_of_sound = 343.3f;
   p->propagation_delay = ES_FALSE;
   p->late_reverb = ES_REVERB_FDN;
+  p->head_radius_m = 0.0f;
   p->hrtf_path = nullptr;
 }
 
@@ -238,7 +240,8 @@ ES_API ESenum esCreateWorld(const ESworldparams* params, ESworld* out) {
       !std::isfinite(p.doppler_factor) || p.doppler_factor < 0 || p.doppler_factor > 100 ||
       !std::isfinite(p.speed_of_sound) || p.speed_of_sound < 1 || p.speed_of_sound > 1e5 ||
       (p.propagation_delay != ES_FALSE && p.propagation_delay != ES_TRUE) ||
-      (p.late_reverb != ES_REVERB_FDN && p.late_reverb != ES_REVERB_SCHROEDER))
+      (p.late_reverb != ES_REVERB_FDN && p.late_reverb != ES_REVERB_SCHROEDER) || !std::isfinite(p.head_radius_m) ||
+      (p.head_radius_m != 0.0f && (p.head_radius_m < 0.01f || p.head_radius_m > 0.5f)))
     return ES_INVALID_VALUE;
   std::unique_ptr<World> w;
   try {
@@ -484,11 +487,14 @@ ES_API ESenum esSourcefv(ESworld h, ESsource s, ESenum param, const ESfloat* v) 
       case ES_PITCH: check_range("ES_PITCH", x, 1.0 / 16.0, 16.0); sp.pitch = x; break;
       case ES_REFERENCE_DISTANCE: check_range("ES_REFERENCE_DISTANCE", x, 0.0, 1e6); st.distance.reference_distance = x; break;
       case ES_ROLLOFF_FACTOR: check_range("ES_ROLLOFF_FACTOR", x, 0.0, 1e3); st.distance.rolloff = x; break;
-      case ES_MAX_DISTANCE: check_range("ES_MAX_DISTANCE", x, 0.0, 3.4e38); st.distance.max_distance = x; break;
+      case ES_MAX_DISTANCE:
+        check_range("ES_MAX_DISTANCE", x, 0.0, std::numeric_limits<float>::max());
+        st.distance.max_distance = x;
+        break;
       case ES_CONE_INNER_ANGLE: check_range("ES_CONE_INNER_ANGLE", x, 0.0, 360.0); st.cone.inner_angle_deg = x; break;
       case ES_CONE_OUTER_ANGLE: check_range("ES_CONE_OUTER_ANGLE", x, 0.0, 360.0); st.cone.outer_angle_deg = x; break;
       case ES_CONE_OUTER_GAIN: check_range("ES_CONE_OUTER_GAIN", x, 0.0, 1.0); st.cone.outer_gain = x; break;
-      case ES_REVERB_SEND: check_range("ES_REVERB_SEND", x, 0.0, 1.0); st.reverb_send = x; break;
+      case ES_REVERB_SEND: check_range("ES_REVERB_SEND", x, 0.0, 10.0); st.reverb_send = x; break;
       case ES_AIR_ABSORPTION_FACTOR: check_range("ES_AIR_ABSORPTION_FACTOR", x, 0.0, 10.0); st.air_absorption = x; break;
       default: return bad_enum(w, "esSourcefv", param);
     }
@@ -571,7 +577,7 @@ ES_API ESenum esGetSourcefv(ESworld h, ESsource s, ESenum param, ESfloat* v) {
       case ES_PITCH: x = sp.pitch; break;
       case ES_REFERENCE_DISTANCE: x = st.distance.reference_distance; break;
       case ES_ROLLOFF_FACTOR: x = st.distance.rolloff; break;
-      case ES_MAX_DISTANCE: x = std::min(st.distance.max_distance, 3.4e38); break;
+      case ES_MAX_DISTANCE: x = std::min<double>(st.distance.max_distance, std::numeric_limits<float>::max()); break;
       case ES_CONE_INNER_ANGLE: x = st.cone.inner_angle_deg; break;
       case ES_CONE_OUTER_ANGLE: x = st.cone.outer_angle_deg; break;
       case ES_CONE_OUTER_GAIN: x = st.cone.outer_gain; break;

@@ -26,8 +26,10 @@ constexpr unsigned index_of(ESenum s) {
 World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thread::get_id()) {
   std::shared_ptr<const hrtf::HrtfSet> set;
   try {
-    set = std::make_shared<const hrtf::HrtfSet>(hrtf::HrtfSet::load(
-        p.hrtf_path ? p.hrtf_path : hrtf::HrtfSet::kDefaultPath, static_cast<double>(p.sample_rate)));
+    auto loaded = hrtf::HrtfSet::load(p.hrtf_path ? p.hrtf_path : hrtf::HrtfSet::kDefaultPath,
+                                      static_cast<double>(p.sample_rate));
+    if (p.head_radius_m > 0.0f) loaded.set_parametric_itd(static_cast<double>(p.head_radius_m));
+    set = std::make_shared<const hrtf::HrtfSet>(std::move(loaded));
   } catch (const std::exception& e) {
     throw Failure{ES_HRTF_ERROR, e.what()};
   }

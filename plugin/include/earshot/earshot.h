@@ -109,6 +109,8 @@ typedef struct ESworldparams {
    * at creation. */
   ESboolean propagation_delay;
   ESenum late_reverb;       /* ES_REVERB_FDN (default) or ES_REVERB_SCHROEDER */
+  ESfloat head_radius_m;    /* 0 (default): the SOFA set's measured ITD; 0.01..0.5:
+                             * Woodworth's ITD for a head of this radius */
   const char *hrtf_path;    /* SOFA file; NULL: MIT KEMAR from libmysofa */
 } ESworldparams;
 
@@ -145,10 +147,10 @@ typedef struct ESworldparams {
 #define ES_REFERENCE_DISTANCE 0x1020 /* float >= 0 */
 #define ES_ROLLOFF_FACTOR 0x1021 /* float >= 0 */
 #define ES_CONE_OUTER_GAIN 0x1022 /* float 0..1 */
-#define ES_MAX_DISTANCE 0x1023   /* float >= 0 */
+#define ES_MAX_DISTANCE 0x1023   /* float >= 0; default FLT_MAX */
 #define ES_SAMPLE_OFFSET 0x1025  /* get only: playback position in buffer frames */
 #define ES_DISTANCE_MODEL 0xD000 /* int: one of the models below */
-#define ES_REVERB_SEND 0x20001   /* float 0..1: linear gain into the reverb */
+#define ES_REVERB_SEND 0x20001   /* float 0..10: linear gain into the reverb */
 #define ES_AIR_ABSORPTION_FACTOR 0x20007 /* float 0..10 (OpenAL's) */
 
 #define ES_INITIAL 0x1011

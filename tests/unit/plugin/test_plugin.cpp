@@ -107,6 +107,23 @@ TEST(PluginAbi, TableVersionAndLayout) {
   EXPECT_EQ(offsetof(ESproctable, Render), 8u + 39u * sizeof(void*));
   EXPECT_EQ(sizeof(ESproctable), 8u + kTableNames.size() * sizeof(void*));
   EXPECT_EQ(sizeof(ESworldparams), 48u) << "ESworldparams changed: that is a new ABI";
+  // The struct's size field is checked, and so is every field.
+  ESworldparams p;
+  esWorldParamsDefault(&p);
+  ESworld w = 0;
+  p.size = sizeof(ESworldparams) - 4;
+  EXPECT_EQ(esCreateWorld(&p, &w), ES_INVALID_VALUE);
+  esWorldParamsDefault(&p);
+  p.head_radius_m = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(esCreateWorld(&p, &w), ES_INVALID_VALUE);
+  esWorldParamsDefault(&p);
+  p.block_size = 0;
+  EXPECT_EQ(esCreateWorld(&p, &w), ES_INVALID_VALUE);
+  esWorldParamsDefault(&p);
+  p.hrtf_path = "/nonexistent.sofa";
+  EXPECT_EQ(esCreateWorld(&p, &w), ES_HRTF_ERROR);
+  EXPECT_EQ(w, 0u);
+  EXPECT_EQ(esCreateWorld(nullptr, &w), ES_INVALID_VALUE);
   // Every slot holds the exported function of its name.
   for (std::size_t i = 0; i < kTableNames.size(); ++i) {
     void* slot = nullptr;

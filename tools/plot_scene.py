@@ -33,6 +33,8 @@ def read_paths(path):
             rows = list(csv.DictReader(f))
     except OSError as e:
         fail(f"{path}: cannot open: {e.strerror}")
+    except (UnicodeDecodeError, csv.Error):
+        fail(f"{path}: not a text CSV (expected t,source,x,y,z from `earshot scene paths`)")
     if not rows:
         fail(f"{path}: no data rows")
     for col in ("t", "source", "x", "y", "z"):

@@ -18,7 +18,7 @@ int main(int argc, char** argv) {
   earshot::app::add_track_commands(*track);
   earshot::app::add_demo_command(app);
   earshot::app::add_render_command(app);
-  auto* scene = app.add_subcommand("scene", "Scene JSON: sample its sources' paths");
+  auto* scene = app.add_subcommand("scene", "Scene JSON: list the shipped presets, sample the sources' paths");
   scene->require_subcommand(1);
   earshot::app::add_scene_commands(*scene);
 

@@ -21,6 +21,13 @@ struct PathsArgs {
 }  // namespace
 
 void add_scene_commands(CLI::App& scene) {
+  auto* list = scene.add_subcommand("list", "List the shipped preset scenes with their descriptions");
+  list->callback([] {
+    for (const auto& name : scenes::preset_names()) {
+      const auto sc = scenes::load_scene(scenes::resolve_scene_argument(name));
+      std::printf("%-16s %s\n", name.c_str(), sc.description.c_str());
+    }
+  });
   auto a = std::make_shared<PathsArgs>();
   auto* cmd = scene.add_subcommand(
       "paths", "Write where every source is over time as CSV (t,source,x,y,z; metres, audio world frame)");

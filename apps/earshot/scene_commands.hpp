@@ -5,7 +5,8 @@
 
 namespace earshot::app {
 
-/// Adds `scene paths` (where every source is over time, as CSV) under `scene`.
+/// Adds `scene list` (the shipped presets and their stories) and `scene paths`
+/// (where every source is over time, as CSV) under `scene`.
 void add_scene_commands(CLI::App& scene);
 
 }  // namespace earshot::app

@@ -13,6 +13,7 @@
 #include "earshot/errors.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/scenes/signal_source.hpp"
+#include "../audio/alloc_counter.hpp"
 #include "scene_test_util.hpp"
 
 using namespace earshot::scenes;
@@ -196,4 +197,16 @@ TEST(FileSignal, MissingOrUnreadableFileNamesTheFile) {
   std::ofstream(s.path) << "this is not a WAV file";
   const std::string e = error_of([&] { SignalSource src(s, kRate); });
   EXPECT_EQ(e.rfind(s.path.string() + ": cannot read audio file: ", 0), 0u) << e;
+}
+
+TEST(Sounds, GenerateNeverAllocates) {
+  // Generators run in the render loop: after construction, not one allocation.
+  for (const auto& json : kSounds) {
+    SCOPED_TRACE(json);
+    SignalSource src(signal_from(with_seed(json, 5)), kRate);
+    std::vector<float> block(128);
+    earshot::testing::AllocationProbe probe;
+    for (int i = 0; i < 400; ++i) src.generate(block);  // about a second
+    EXPECT_EQ(probe.count(), 0u);
+  }
 }

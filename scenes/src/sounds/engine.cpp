@@ -13,7 +13,7 @@ EngineSynth::EngineSynth(const EngineParams& p, std::uint64_t seed, double rate)
 void EngineSynth::generate(std::span<float> out) {
   const double f0 = firing_hz();
   for (float& y : out) {
-    // The rpm wanders by about half a percent, slowly: an engine, not an organ.
+    // The rpm wanders a little (about 0.1 %), slowly: an engine, not an organ.
     wander_ = wander_lp_.process(rng_.bipolar() * 0.3);
     phase_ += f0 * (1.0 + wander_) / rate_;
     phase_ -= std::floor(phase_);

@@ -48,3 +48,9 @@ target_compile_definitions(plugin_bridge_tests PRIVATE EARSHOT_RECORDED_TURN="${
 # The example of docs/PLUGIN.md, run.
 add_test(NAME plugin_example_two_sources COMMAND plugin_example_two_sources $<TARGET_FILE:earshot_plugin>)
 set_tests_properties(plugin_example_two_sources PROPERTIES LABELS "unit;plugin")
+
+# Installed, the plugin is found by pkg-config and by find_package(earshot).
+add_test(NAME plugin_install
+  COMMAND ${CMAKE_COMMAND} -DBUILD=${PROJECT_BINARY_DIR} -DSRC=${plugin_dir} -DWORK=${CMAKE_CURRENT_BINARY_DIR}/plugin_install
+          -P ${plugin_dir}/install_check.cmake)
+set_tests_properties(plugin_install PROPERTIES LABELS "unit;plugin")

@@ -127,10 +127,11 @@ TEST(Presets, CirclesSirenIldChangesSignWithItsCircle) {
 
 TEST(Presets, TeleconferenceTalkersSitAtTheirOwnAzimuths) {
   // Each talker alone: the ITD (below 1.5 kHz) must be ordered as the seats
-  // go from left to right, each clearly apart from its neighbour.
+  // go from left to right, each clearly apart from its neighbour; and each
+  // voice's pitch its own, at least 10 % from every other.
   const Scene s = preset("teleconference");
   ASSERT_GE(s.sources.size(), 4u);
-  std::vector<double> itd;
+  std::vector<double> itd, pitch;
   const earshot::audio::ListenerState listener;
   double last_az = 1e9;
   for (const auto& src : s.sources) {
@@ -139,9 +140,18 @@ TEST(Presets, TeleconferenceTalkersSitAtTheirOwnAzimuths) {
     last_az = az;
     const auto w = render(alone(s, src.name), "tc_" + src.name, 4.0);
     itd.push_back(earshot::analysis::itd_s(w.l, w.r, w.rate, 1.2e-3, 1500.0));
-    std::printf("teleconference %s: azimuth %.0f deg, ITD %.0f us\n", src.name.c_str(), az * 180 / std::numbers::pi,
-                itd.back() * 1e6);
+    // And a voice of their own: the pitch heard is the talker's pitch_hz.
+    std::vector<float> mono(w.l.size());
+    for (std::size_t i = 0; i < mono.size(); ++i) mono[i] = w.l[i] + w.r[i];
+    pitch.push_back(test::median_pitch_hz(mono, w.rate));
+    EXPECT_NEAR(pitch.back(), src.signal.talk.pitch_hz, 0.15 * src.signal.talk.pitch_hz) << src.name;
+    std::printf("teleconference %s: azimuth %.0f deg, ITD %.0f us, pitch %.0f Hz (pitch_hz %.0f)\n",
+                src.name.c_str(), az * 180 / std::numbers::pi, itd.back() * 1e6, pitch.back(),
+                src.signal.talk.pitch_hz);
   }
+  for (std::size_t i = 0; i < pitch.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      EXPECT_GT(std::abs(std::log(pitch[i] / pitch[j])), std::log(1.1)) << s.sources[i].name << " " << s.sources[j].name;
   for (std::size_t i = 1; i < itd.size(); ++i) EXPECT_LT(itd[i], itd[i - 1] - 100e-6) << s.sources[i].name;
   EXPECT_GT(itd.front(), 400e-6);   // far left
   EXPECT_LT(itd.back(), -400e-6);   // far right

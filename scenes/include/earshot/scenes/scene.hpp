@@ -1,5 +1,6 @@
 // Scene JSON: what `earshot render` plays (contract in docs/ARCHITECTURE.md).
-//   {"duration_s": 5, "sample_rate": 48000, "room": "none", "reverb": "fdn",
+//   {"description": "what the scene is",            (optional, free text)
+//    "duration_s": 5, "sample_rate": 48000, "room": "none", "reverb": "fdn",
 //    "doppler_factor": 1, "speed_of_sound": 343.3,
 //    "listener": {"position": [0,0,0], "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0,
 //                 "head_size": "measured"},
@@ -8,7 +9,12 @@
 //                 "position": [0,0,-1], "gain_db": 0, "distance_model": "inverse-clamped",
 //                 "reference_distance": 1, "rolloff": 1, "max_distance": 100,
 //                 "reverb_send_db": -120, "air_absorption": 0}]}
-// Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path}.
+// A source has a fixed "position" or a moving "path" (motion_path.hpp), e.g.
+//   "path": {"type": "circle", "centre": [0,0,0], "radius": 2, "plane": "xz", "period_s": 8}
+// Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path, loop}
+// (any rate, resampled; signal_source.hpp), and the synthesised voice, talk,
+// siren, birds, engine, horn, footsteps, ambience, animal (sounds.hpp).
+// Shipped presets: presets.hpp.
 // room: "none" or a room preset (audio/room_presets.hpp, e.g. "concert-hall");
 // reverb: its late reverb, "fdn" (default) or "schroeder". Sources reach it
 // through reverb_send_db.

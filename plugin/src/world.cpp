@@ -179,11 +179,12 @@ void World::recenter() {
 
 double World::doppler_shift(const SourceParams& sp, const Snapshot& s) const {
   // OpenAL 1.1, section 3.5.2: f' = f (SS - DF vls) / (SS - DF vss), with the
-  // velocities projected on the listener-to-source line and clamped below SS / DF.
+  // velocities projected on the line from the source to the listener (positive:
+  // moving towards the listener's side) and clamped below SS / DF.
   if (propagation_delay() || s.doppler_factor <= 0.0) return 1.0;
   const Vec3 lp = sp.state.relative ? Vec3{0, 0, 0} : s.listener.position;
   const Vec3 lv = sp.state.relative ? Vec3{0, 0, 0} : s.listener_velocity;
-  const Vec3 d{sp.state.position[0] - lp[0], sp.state.position[1] - lp[1], sp.state.position[2] - lp[2]};
+  const Vec3 d{lp[0] - sp.state.position[0], lp[1] - sp.state.position[1], lp[2] - sp.state.position[2]};
   const double len = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
   if (!(len > 1e-9)) return 1.0;
   const double ss = s.speed_of_sound, df = s.doppler_factor;

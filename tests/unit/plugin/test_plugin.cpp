@@ -216,6 +216,122 @@ TEST(PluginDeferred, SwitchingToImmediateAppliesPendingChanges) {
   EXPECT_EQ(first_difference(l, rl), std::numeric_limits<std::size_t>::max());
 }
 
+// ---- sources: pitch, OpenAL Doppler, state, callbacks ----
+
+/// Frequency of the left channel by counting upward zero crossings.
+double frequency_hz(const std::vector<float>& x) {
+  std::size_t up = 0, first = 0, last = 0;
+  for (std::size_t i = 1; i < x.size(); ++i)
+    if (x[i - 1] < 0.0f && x[i] >= 0.0f) {
+      if (up++ == 0) first = i;
+      last = i;
+    }
+  return up > 1 ? static_cast<double>(up - 1) * kRate / static_cast<double>(last - first) : 0.0;
+}
+
+std::vector<float> sine(double hz, std::size_t n) {
+  std::vector<float> x(n);
+  for (std::size_t i = 0; i < n; ++i) x[i] = 0.5f * static_cast<float>(std::sin(2 * std::numbers::pi * hz * static_cast<double>(i) / kRate));
+  return x;
+}
+
+double rendered_frequency(void (*setup)(ESworld, ESsource)) {
+  ESworldparams p;
+  esWorldParamsDefault(&p);
+  ESworld w = 0;
+  EXPECT_EQ(esCreateWorld(&p, &w), ES_OK);
+  const auto x = sine(500.0, 48000);
+  ESbuffer b = 0;
+  ESsource s = 0;
+  EXPECT_EQ(esCreateBuffer(w, x.data(), 48000, 48000, &b), ES_OK);
+  EXPECT_EQ(esCreateSource(w, &s), ES_OK);
+  EXPECT_EQ(esSourcei(w, s, ES_BUFFER, static_cast<ESint>(b)), ES_OK);
+  EXPECT_EQ(esSourcei(w, s, ES_LOOPING, ES_TRUE), ES_OK);
+  EXPECT_EQ(esSource3f(w, s, ES_POSITION, 0, 0, -3), ES_OK);
+  setup(w, s);
+  EXPECT_EQ(esSourcePlay(w, s), ES_OK);
+  std::vector<float> l, r;
+  std::array<float, kBlock> bl{}, br{};
+  for (int i = 0; i < 200; ++i) {
+    EXPECT_EQ(esRender(w, bl.data(), br.data(), kBlock), ES_OK);
+    if (i >= 20) l.insert(l.end(), bl.begin(), bl.end());
+  }
+  esDestroyWorld(w);
+  return frequency_hz(l);
+}
+
+TEST(PluginSources, PitchAndOpenAlDopplerShiftTheFrequency) {
+  EXPECT_NEAR(rendered_frequency([](ESworld, ESsource) {}), 500.0, 1.0);
+  EXPECT_NEAR(rendered_frequency([](ESworld w, ESsource s) { EXPECT_EQ(esSourcef(w, s, ES_PITCH, 1.5f), ES_OK); }),
+              750.0, 1.5);
+  // Approaching at a tenth of the speed of sound: f c / (c - v) = 555.6 Hz.
+  EXPECT_NEAR(rendered_frequency([](ESworld w, ESsource s) { EXPECT_EQ(esSource3f(w, s, ES_VELOCITY, 0, 0, 34.33f), ES_OK); }),
+              500.0 / 0.9, 1.5);
+  // The listener moving away at the same speed: f (c - v) / c = 450 Hz; a Doppler factor of 0 removes it.
+  EXPECT_NEAR(rendered_frequency([](ESworld w, ESsource) { EXPECT_EQ(esListener3f(w, ES_VELOCITY, 0, 0, 34.33f), ES_OK); }),
+              450.0, 1.5);
+  EXPECT_NEAR(rendered_frequency([](ESworld w, ESsource) {
+                EXPECT_EQ(esListener3f(w, ES_VELOCITY, 0, 0, 34.33f), ES_OK);
+                EXPECT_EQ(esDopplerFactor(w, 0.0f), ES_OK);
+              }),
+              500.0, 1.0);
+}
+
+TEST(PluginSources, BufferEndsStopsAndRewinds) {
+  TestWorld t(false);
+  ASSERT_EQ(esSourceStop(t.w, t.src), ES_OK);
+  ASSERT_EQ(esSourcei(t.w, t.src, ES_LOOPING, ES_FALSE), ES_OK);
+  ASSERT_EQ(esSourcePlay(t.w, t.src), ES_OK);
+  ESint st = 0;
+  ASSERT_EQ(esGetSourcei(t.w, t.src, ES_SOURCE_STATE, &st), ES_OK);
+  EXPECT_EQ(st, ES_PLAYING);
+  std::vector<float> l, r;
+  t.render(100, l, r);  // 12800 frames of a 24000-frame buffer
+  ESfloat offset = 0;
+  ASSERT_EQ(esGetSourcef(t.w, t.src, ES_SAMPLE_OFFSET, &offset), ES_OK);
+  EXPECT_EQ(offset, 12800.0f);
+  ASSERT_EQ(esSourcePause(t.w, t.src), ES_OK);
+  t.render(10, l, r);
+  ASSERT_EQ(esGetSourcei(t.w, t.src, ES_SOURCE_STATE, &st), ES_OK);
+  EXPECT_EQ(st, ES_PAUSED);
+  ASSERT_EQ(esGetSourcef(t.w, t.src, ES_SAMPLE_OFFSET, &offset), ES_OK);
+  EXPECT_EQ(offset, 12800.0f);
+  ASSERT_EQ(esSourcePlay(t.w, t.src), ES_OK);  // resumes
+  t.render(100, l, r);
+  ASSERT_EQ(esGetSourcei(t.w, t.src, ES_SOURCE_STATE, &st), ES_OK);
+  EXPECT_EQ(st, ES_STOPPED);
+  ASSERT_EQ(esSourceRewind(t.w, t.src), ES_OK);
+  ASSERT_EQ(esGetSourcei(t.w, t.src, ES_SOURCE_STATE, &st), ES_OK);
+  EXPECT_EQ(st, ES_INITIAL);
+  // Stopped, the buffer can be changed and then deleted once no source has it.
+  ASSERT_EQ(esSourcei(t.w, t.src, ES_BUFFER, 0), ES_OK);
+  EXPECT_EQ(esDeleteBuffer(t.w, t.buf), ES_OK);
+}
+
+void ramp(void* user, float* out, ESuint frames) {
+  auto* calls = static_cast<int*>(user);
+  ++*calls;
+  for (ESuint i = 0; i < frames; ++i) out[i] = 0.2f;
+}
+
+TEST(PluginSources, CallbackFeedsTheSource) {
+  TestWorld t(false);
+  ASSERT_EQ(esDeleteSource(t.w, t.src), ES_OK);
+  int calls = 0;
+  ESsource s = 0;
+  ASSERT_EQ(esCreateSource(t.w, &s), ES_OK);
+  ASSERT_EQ(esSourceCallback(t.w, s, ramp, &calls), ES_OK);
+  std::vector<float> l, r;
+  t.render(5, l, r);
+  EXPECT_EQ(calls, 0) << "not playing yet";
+  ASSERT_EQ(esSourcePlay(t.w, s), ES_OK);
+  t.render(20, l, r);
+  EXPECT_EQ(calls, 20);
+  double e = 0;
+  for (float v : l) e += v * v;
+  EXPECT_GT(e, 0.0);
+}
+
 // ---- misuse ----
 
 struct Reentry {

@@ -64,8 +64,8 @@ const std::vector<std::string> kSounds = {
 };
 
 std::string with_seed(std::string s, int seed) {
-  if (auto p = s.find("SEED"); p != std::string::npos) s.replace(p, 4, std::to_string(seed));
-  return s;
+  const auto p = s.find("SEED");
+  return p == std::string::npos ? s : s.substr(0, p) + std::to_string(seed) + s.substr(p + 4);
 }
 
 }  // namespace
@@ -171,8 +171,9 @@ fs::path write_tone(const std::string& name, int rate, double hz, double seconds
 }  // namespace
 
 TEST(FileSignal, AnyRateIsResampledAndLoops) {
-  for (int format : {SF_FORMAT_WAV | SF_FORMAT_PCM_16, SF_FORMAT_FLAC | SF_FORMAT_PCM_16}) {
-    const std::string ext = (format & SF_FORMAT_TYPEMASK) == SF_FORMAT_FLAC ? ".flac" : ".wav";
+  for (int format : {SF_FORMAT_WAV | SF_FORMAT_PCM_16, SF_FORMAT_FLAC | SF_FORMAT_PCM_16, SF_FORMAT_OGG | SF_FORMAT_VORBIS}) {
+    const int type = format & SF_FORMAT_TYPEMASK;
+    const std::string ext = type == SF_FORMAT_FLAC ? ".flac" : type == SF_FORMAT_OGG ? ".ogg" : ".wav";
     const fs::path p = write_tone("tone44k" + ext, 44100, 1000.0, 1.0, format);
     Signal s = signal_from(R"({"type": "file", "path": ")" + p.string() + R"("})");
     const auto x = generate(s, 2.0);

@@ -29,9 +29,9 @@ Signal signal_from(const std::string& json_signal) {
       .signal;
 }
 
-std::vector<float> generate(const Signal& s, double seconds, std::size_t block = 128) {
-  SignalSource src(s, kRate);
-  std::vector<float> out(static_cast<std::size_t>(seconds * kRate));
+std::vector<float> generate(const Signal& s, double seconds, std::size_t block = 128, double rate = kRate) {
+  SignalSource src(s, rate);
+  std::vector<float> out(static_cast<std::size_t>(seconds * rate));
   for (std::size_t i = 0; i < out.size(); i += block)
     src.generate(std::span(out).subspan(i, std::min(block, out.size() - i)));
   return out;
@@ -90,6 +90,16 @@ TEST(Sounds, EachIsDeterministicFiniteBoundedAndAudible) {
       EXPECT_NE(a, generate(signal_from(with_seed(json, 8)), 8.0));
     }
   }
+}
+
+TEST(Sounds, FiniteAndBoundedAtTheEdgesOfTheSceneRates) {
+  for (const double rate : {8000.0, 192000.0})
+    for (const auto& json : kSounds) {
+      SCOPED_TRACE(json + " at " + std::to_string(rate));
+      const auto x = generate(signal_from(with_seed(json, 2)), 3.0, 128, rate);
+      for (float v : x) ASSERT_TRUE(std::isfinite(v) && std::abs(v) <= 1.0f);
+      EXPECT_GT(test::rms(x), 1e-3);
+    }
 }
 
 TEST(Sounds, EngineRunsAtItsFiringFrequency) {

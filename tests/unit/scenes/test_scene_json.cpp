@@ -101,3 +101,10 @@ TEST(SceneJson, AirAbsorptionDarkensAFarSource) {
   const double air_hf = earshot::analysis::energy_above_db(air.l, 48000.0, 8000.0);
   EXPECT_LT(air_hf, dry_hf - 3.0);  // 0.994^150: -7.5 dB above 5 kHz
 }
+
+TEST(SceneJson, DescriptionIsFreeText) {
+  EXPECT_EQ(parse_scene(R"({"description": "a car passes", "sources": []})", "s.json").description, "a car passes");
+  EXPECT_EQ(parse_scene(R"({"sources": []})", "s.json").description, "");
+  EXPECT_EQ(parse_error(R"({"description": 3, "sources": []})"),
+            "s.json: field 'description': expected a string, got 3");
+}

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "earshot/errors.hpp"
+#include "demo_command.hpp"
 #include "render_command.hpp"
 #include "scene_commands.hpp"
 #include "track_commands.hpp"

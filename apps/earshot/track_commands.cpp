@@ -194,25 +194,4 @@ void add_track_commands(CLI::App& track) {
   add_track_live_commands(track);
 }
 
-void add_demo_command(CLI::App& app) {
-  auto opts = std::make_shared<SimulateOptions>();
-  auto method = std::make_shared<std::string>("lm");
-  auto* demo = app.add_subcommand("demo", "Simulate a head walk in front of the camera, track it, and print the accuracy");
-  demo->add_option("--frames,-n", opts->frames, "Frames to simulate (100 per second)")->capture_default_str();
-  demo->add_option("--seed", opts->sim.seed, "Random seed")->capture_default_str();
-  demo->add_option("--method", *method, "Solver: lm or thesis")->capture_default_str();
-  demo->callback([opts, method] {
-    Simulator sim(opts->cam.camera(), opts->cam.model(), opts->sim);
-    DotTracker tracker(opts->cam.camera(), opts->cam.model(), tracker_config(*method, "auto", 4.0));
-    Summary sum;
-    for (long i = 0; i < opts->frames; ++i) {
-      const DotFrame f = sim.next();
-      sum.add(f, tracker.process(f));
-    }
-    std::printf("earshot demo: simulated Wii camera (f = 1280 px, integer pixels), thesis beacon,\n"
-                "%ld frames of a seeded random walk, tracked with '%s'\n\n", opts->frames, method->c_str());
-    sum.print(stdout, *method);
-  });
-}
-
 }  // namespace earshot::app

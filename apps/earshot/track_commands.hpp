@@ -11,7 +11,4 @@ void add_track_commands(CLI::App& track);
 /// Adds `track live` and `track record` (track_live.cpp).
 void add_track_live_commands(CLI::App& track);
 
-/// Adds `demo` (for now: simulate a head walk, track it, print accuracy).
-void add_demo_command(CLI::App& app);
-
 }  // namespace earshot::app

@@ -57,7 +57,7 @@ class PoseSlot {
     std::atomic_thread_fence(std::memory_order_acquire);
     if (seq_.load(std::memory_order_relaxed) != s1) return std::nullopt;
     HeadPose p;
-    std::memcpy(&p, w.data(), sizeof(HeadPose));
+    std::memcpy(static_cast<void*>(&p), w.data(), sizeof(HeadPose));  // HeadPose is trivially copyable
     return p;
   }
 

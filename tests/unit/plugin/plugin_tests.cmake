@@ -33,10 +33,13 @@ add_test(NAME plugin_bridge_exports
           -P ${plugin_dir}/nm_exports.cmake)
 set_tests_properties(plugin_exports plugin_bridge_exports PROPERTIES LABELS "unit;plugin")
 
-# The API linked: ABI, deferred mode, misuse, no allocation in esRender, head poses.
+# The API linked: ABI, deferred mode, sources, misuse, control and audio
+# threads together (label threads: CI runs it under TSan too), no allocation
+# in esRender, head poses.
 earshot_unit_test(plugin_tests
   SOURCES plugin/test_plugin.cpp audio/alloc_counter.cpp
-  LIBS earshot_plugin earshot::tracker earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads)
+  LIBS earshot_plugin earshot::tracker earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
+  EXTRA_LABELS threads)
 
 # The OpenAL Soft bridge on the loopback device with HRTF.
 pkg_check_modules(OPENAL_TESTS REQUIRED IMPORTED_TARGET openal)

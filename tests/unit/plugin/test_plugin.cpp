@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstddef>
@@ -472,6 +473,74 @@ TEST(PluginMisuse, ControlThreadCanBeHandedOver) {
   EXPECT_EQ(esSourcef(t.w, t.src, ES_GAIN, 0.5f), ES_WRONG_THREAD);
   EXPECT_EQ(esSetControlThread(t.w), ES_OK);
   EXPECT_EQ(esSourcef(t.w, t.src, ES_GAIN, 0.5f), ES_OK);
+}
+
+// ---- threads ----
+
+// The audio thread renders while the control thread changes everything,
+// commits, and creates and deletes sources and buffers: every block is
+// finite and in range (under ThreadSanitizer: no race in the hand-off).
+TEST(PluginThreads, ControlAndAudioThreadsTogether) {
+  ESworldparams p;
+  esWorldParamsDefault(&p);
+  p.max_sources = 8;
+  p.max_buffers = 8;
+  ESworld w = 0;
+  ASSERT_EQ(esCreateWorld(&p, &w), ES_OK);
+  ASSERT_EQ(esReverbi(w, ES_REVERB_ENABLED, ES_TRUE), ES_OK);
+  std::atomic<bool> stop{false}, bad{false};
+  std::atomic<int> blocks{0};
+  std::thread audio([&] {
+    std::array<float, kBlock> l{}, r{};
+    while (!stop.load()) {
+      if (esRender(w, l.data(), r.data(), kBlock) != ES_OK) bad = true;
+      for (std::size_t i = 0; i < kBlock; ++i)
+        if (!std::isfinite(l[i]) || !std::isfinite(r[i]) || std::abs(l[i]) > 1 || std::abs(r[i]) > 1) bad = true;
+      blocks.fetch_add(1);
+    }
+  });
+  const auto x = noise(2000, 4);
+  std::vector<ESsource> live;
+  std::vector<ESbuffer> buffers;
+  for (int round = 0; round < 300 || blocks.load() < 200; ++round) {
+    if (round % 2 == 0) {
+      EXPECT_EQ(esWorldi(w, ES_COMMIT_MODE, round % 4 == 0 ? ES_DEFERRED : ES_IMMEDIATE), ES_OK);
+    }
+    ESbuffer b = 0;
+    if (esCreateBuffer(w, x.data(), 2000, 48000, &b) == ES_OK) buffers.push_back(b);
+    ESsource s = 0;
+    if (esCreateSource(w, &s) == ES_OK) {
+      live.push_back(s);
+      EXPECT_EQ(esSourcei(w, s, ES_BUFFER, static_cast<ESint>(buffers.back())), ES_OK);
+      EXPECT_EQ(esSourcePlay(w, s), ES_OK);
+    }
+    for (ESsource src : live)
+      EXPECT_EQ(esSource3f(w, src, ES_POSITION, std::sin(static_cast<float>(round)), 0, -1), ES_OK);
+    EXPECT_EQ(esReverbf(w, ES_REVERB_DECAY_TIME, 0.5f + static_cast<float>(round % 10) * 0.1f), ES_OK);
+    EXPECT_EQ(esCommit(w), ES_OK);
+    if (live.size() > 4) {  // retire the oldest source and its buffer
+      EXPECT_EQ(esDeleteSource(w, live.front()), ES_OK);
+      live.erase(live.begin());
+    }
+    if (buffers.size() > live.size() + 1) {
+      ESint used = 0;
+      bool in_use = false;
+      for (ESsource src : live) {
+        EXPECT_EQ(esGetSourcei(w, src, ES_BUFFER, &used), ES_OK);
+        in_use = in_use || static_cast<ESbuffer>(used) == buffers.front();
+      }
+      if (!in_use) {
+        EXPECT_EQ(esDeleteBuffer(w, buffers.front()), ES_OK);
+        buffers.erase(buffers.begin());
+      }
+    }
+    if (round > 100000) break;
+  }
+  stop = true;
+  audio.join();
+  EXPECT_FALSE(bad.load());
+  EXPECT_GE(blocks.load(), 200);
+  EXPECT_EQ(esDestroyWorld(w), ES_OK);
 }
 
 // ---- real time ----

@@ -25,6 +25,7 @@
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/pose_track_writer.hpp"
 #include "earshot/tracker/sim_source.hpp"
+#include "demo/live_demo.hpp"
 
 namespace earshot::app {
 namespace {
@@ -33,7 +34,18 @@ struct DemoArgs {
   std::string scene = "circles", room, tracker = "sim", hrtf, out = "earshot-demo.wav";
   double duration = -1;
   std::uint64_t seed = 1;
+  std::string device, capture, capture_poses;
+  unsigned long buffer = 128;
+  bool list_devices = false;
 };
+
+/// True when PortAudio should be tried: a device was named or a sound card exists.
+bool want_live(const DemoArgs& a) {
+  if (!a.device.empty() || a.list_devices) return true;
+  std::ifstream pcm("/proc/asound/pcm");
+  std::string line;
+  return pcm && std::getline(pcm, line) && !line.empty();
+}
 
 /// Why live output cannot happen here, or empty when it could.
 std::string why_offline() {
@@ -103,7 +115,25 @@ void progress_bar(double f) {
   std::fflush(stderr);
 }
 
+void run_offline(const DemoArgs& a);
+
 void run_demo(const DemoArgs& a) {
+  if (a.list_devices) {
+    demo::list_devices();
+    return;
+  }
+  if (want_live(a)) {
+    demo::LiveOptions o;
+    o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtf = a.hrtf;
+    o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
+    const long xruns = demo::run_live(o);
+    if (xruns > 0) std::printf("  (%ld xruns: try a larger --buffer)\n", xruns);
+    return;
+  }
+  run_offline(a);
+}
+
+void run_offline(const DemoArgs& a) {
   const auto scene_file = scenes::resolve_scene_argument(a.scene);
   scenes::Scene scene = scenes::load_scene(scene_file);
   if (!a.room.empty()) {
@@ -143,7 +173,19 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--scene,-s", a->scene, "Scene JSON or a shipped preset (manual, circles, traffic, zoo, teleconference)")
       ->capture_default_str();
   demo->add_option("--room", a->room, "Room preset overriding the scene's (e.g. concert-hall, none)");
-  demo->add_option("--tracker", a->tracker, "Head tracker: sim or replay:DOTS.csv")->capture_default_str();
+  demo->add_option("--tracker", a->tracker,
+                   "Head tracker: sim, replay:DOTS.csv; live also wiimote, opentrack[:PORT], osc[:PORT], none")
+      ->capture_default_str();
+  demo->add_option("--device", a->device, "Audio output device (name or part of it; see --list-devices)");
+  demo->add_flag("--list-devices", a->list_devices, "List the audio output devices and exit");
+  demo->add_option("--buffer", a->buffer, "Frames per audio buffer (and plugin block)")
+      ->capture_default_str()
+      ->check(CLI::Range(16, 8192));
+  demo->add_option("--capture", a->capture, "Live: also write what the audio callback played to this WAV");
+  demo->add_option("--capture-poses", a->capture_poses, "Live: write the head's yaw per control tick (CSV)");
+  demo->footer("Keys while playing: r recenter the head, q or Esc quit.\n"
+               "Plays through PortAudio when there is a sound card or --device is given (e.g. a JACK server);\n"
+               "otherwise says why and renders the same scene to --out.");
   demo->add_option("--hrtf", a->hrtf, "SOFA file (default: MIT KEMAR from libmysofa)");
   demo->add_option("--out,-o", a->out, "WAV file written when it cannot play")->capture_default_str();
   demo->add_option("--duration", a->duration, "Seconds (default: the scene's)");

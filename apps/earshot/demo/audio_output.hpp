@@ -1,0 +1,69 @@
+#pragma once
+// PortAudio output for `earshot demo`: lists devices, picks one by name (or
+// the default), opens it at a requested buffer size, reports the latency it
+// got, and counts xruns and measures the callback's load without allocating
+// or locking in the callback.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace earshot::demo {
+
+struct DeviceInfo {
+  int index = -1;
+  std::string name, host_api;
+  int max_output_channels = 0;
+  double default_rate = 0;
+  bool is_default = false;
+};
+
+/// What the audio thread does per block: fill `frames` samples of left and right.
+/// Called on the real-time thread; must not allocate, lock, log or do I/O.
+using RenderFn = void (*)(void* user, float* left, float* right, unsigned long frames);
+
+/// Live counters, written by the audio thread, read by anyone.
+struct OutputStats {
+  std::atomic<std::uint64_t> blocks{0}, xruns{0};
+  std::atomic<double> load_last{0}, load_max{0};  ///< CPU time / block duration
+  std::atomic<double> load_sum{0};
+};
+
+/// PortAudio, initialised for the object's lifetime (RAII).
+class AudioOutput {
+ public:
+  AudioOutput();
+  ~AudioOutput();
+  AudioOutput(const AudioOutput&) = delete;
+  AudioOutput& operator=(const AudioOutput&) = delete;
+
+  /// Devices with output channels.
+  [[nodiscard]] std::vector<DeviceInfo> devices() const;
+  /// The device whose name contains `name` (empty: the default output).
+  /// Throws earshot::InputError listing the devices when none matches.
+  [[nodiscard]] DeviceInfo choose(const std::string& name) const;
+
+  /// Opens and starts a stereo float stream of `frames` per buffer.
+  void start(const DeviceInfo& dev, double rate, unsigned long frames, RenderFn fn, void* user);
+  void stop();
+  /// Output latency PortAudio reports for the open stream, seconds.
+  [[nodiscard]] double latency_s() const { return latency_; }
+  [[nodiscard]] const OutputStats& stats() const { return stats_; }
+
+  /// The audio thread's block (PortAudio's callback lands here): renders,
+  /// counts xruns from the status flags, measures its own CPU time.
+  void on_block(float* left, float* right, unsigned long frames, bool xrun) noexcept;
+
+ private:
+  void* stream_ = nullptr;
+  RenderFn fn_ = nullptr;
+  void* user_ = nullptr;
+  double block_s_ = 0, latency_ = 0;
+  OutputStats stats_;
+};
+
+/// A readable list of `devs` for messages.
+[[nodiscard]] std::string describe_devices(const std::vector<DeviceInfo>& devs);
+
+}  // namespace earshot::demo

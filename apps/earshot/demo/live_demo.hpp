@@ -1,0 +1,26 @@
+#pragma once
+// `earshot demo` in real time: a scene played through PortAudio by the
+// plugin's esRender on the audio thread, sources fed by callback sources
+// (the scenes' generators), moved along their paths on the control thread,
+// the head turned by a tracker attached to the world (its own thread).
+#include <filesystem>
+#include <string>
+
+namespace earshot::demo {
+
+struct LiveOptions {
+  std::string scene = "circles", room, tracker = "sim", device, hrtf;
+  unsigned long buffer = 128;
+  double duration = -1;                 ///< seconds; <= 0: until 'q' / Ctrl-C
+  std::filesystem::path capture;        ///< WAV of what the callback wrote
+  std::filesystem::path capture_poses;  ///< CSV: t, yaw (deg), per control tick
+  bool list_devices = false;
+};
+
+/// Prints the PortAudio output devices.
+void list_devices();
+/// Plays until the duration ends or 'q'; a status line on the terminal.
+/// Returns the number of xruns.
+long run_live(const LiveOptions& o);
+
+}  // namespace earshot::demo

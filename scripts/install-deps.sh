@@ -21,6 +21,8 @@ packages=(
   libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks, the plugin's OpenAL bridge
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes
   python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
+  portaudio19-dev        # real-time audio output of `earshot demo` (Debian's is built with JACK and ALSA)
+  jackd2 libjack-jackd2-dev  # JACK: the demo's end-to-end test plays through its dummy driver (no sound card)
 )
 
 missing=()
@@ -35,5 +37,7 @@ echo "install-deps: installing ${missing[*]}"
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
+# jackd2 asks whether to enable real-time priorities: answer before it asks.
+echo "jackd2 jackd/tweak_rt_limits boolean false" | $SUDO debconf-set-selections
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

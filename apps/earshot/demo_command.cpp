@@ -25,6 +25,7 @@
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/pose_track_writer.hpp"
 #include "earshot/tracker/sim_source.hpp"
+#include "demo/audio_output.hpp"
 #include "demo/live_demo.hpp"
 
 namespace earshot::app {
@@ -37,6 +38,7 @@ struct DemoArgs {
   std::string device, capture, capture_poses;
   unsigned long buffer = 128;
   bool list_devices = false;
+  std::string why;  ///< why it renders instead of playing (empty: found here)
 };
 
 /// True when PortAudio should be tried: a device was named or a sound card exists.
@@ -126,9 +128,16 @@ void run_demo(const DemoArgs& a) {
     demo::LiveOptions o;
     o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtf = a.hrtf;
     o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
-    const long xruns = demo::run_live(o);
-    if (xruns > 0) std::printf("  (%ld xruns: try a larger --buffer)\n", xruns);
-    return;
+    try {
+      const long xruns = demo::run_live(o);
+      if (xruns > 0) std::printf("  (%ld xruns: try a larger --buffer)\n", xruns);
+      return;
+    } catch (const demo::NoDevice& e) {
+      DemoArgs off = a;
+      off.why = e.what();
+      run_offline(off);
+      return;
+    }
   }
   run_offline(a);
 }
@@ -144,7 +153,8 @@ void run_offline(const DemoArgs& a) {
   std::filesystem::path out(a.out), poses = out;
   poses.replace_extension(".poses.csv");
 
-  std::printf("earshot demo: %s; rendering to %s instead of playing.\n", why_offline().c_str(), out.c_str());
+  std::printf("earshot demo: %s; rendering to %s instead of playing.\n",
+              a.why.empty() ? why_offline().c_str() : a.why.c_str(), out.c_str());
   std::printf("  scene   %s (%zu sources, room %s)\n", scene_file.c_str(), scene.sources.size(), scene.room.c_str());
   const TrackedHead head = track_to_file(a, duration, poses);
   std::printf("  tracker %s: %ld frames, %.1f%% tracked, head yaw %+.0f to %+.0f deg -> %s\n", a.tracker.c_str(),

@@ -61,7 +61,8 @@ std::string describe_devices(const std::vector<DeviceInfo>& devs) {
 
 DeviceInfo AudioOutput::choose(const std::string& name) const {
   const auto devs = devices();
-  if (devs.empty()) throw InputError::at("--device", 0, "", "no audio output device");
+  if (devs.empty())
+    throw NoDevice(name.empty() ? "no audio output device" : "no audio output device (asked for '" + name + "')");
   if (name.empty()) {
     const auto it = std::find_if(devs.begin(), devs.end(), [](const DeviceInfo& d) { return d.is_default; });
     return it != devs.end() ? *it : devs.front();

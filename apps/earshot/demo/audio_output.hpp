@@ -5,7 +5,7 @@
 // or locking in the callback.
 #include <atomic>
 #include <cstdint>
-#include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -30,6 +30,11 @@ struct OutputStats {
   std::atomic<double> load_sum{0};
 };
 
+/// There is no output device at all (the demo then renders to a WAV).
+struct NoDevice : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// PortAudio, initialised for the object's lifetime (RAII).
 class AudioOutput {
  public:
@@ -41,7 +46,8 @@ class AudioOutput {
   /// Devices with output channels.
   [[nodiscard]] std::vector<DeviceInfo> devices() const;
   /// The device whose name contains `name` (empty: the default output).
-  /// Throws earshot::InputError listing the devices when none matches.
+  /// Throws earshot::InputError listing the devices when none matches, and
+  /// NoDevice when there are none.
   [[nodiscard]] DeviceInfo choose(const std::string& name) const;
 
   /// Opens and starts a stereo float stream of `frames` per buffer.

@@ -77,9 +77,7 @@ DeviceInfo AudioOutput::choose(const std::string& name) const {
 
 void AudioOutput::start(const DeviceInfo& dev, double rate, unsigned long frames, RenderFn fn, void* user) {
   stop();
-  fn_ = fn;
-  user_ = user;
-  block_s_ = double(frames) / rate;
+  prepare(fn, user, frames, rate);
   PaStreamParameters p{};
   p.device = dev.index;
   p.channelCount = 2;
@@ -102,7 +100,12 @@ void AudioOutput::stop() {
 void AudioOutput::on_block(float* left, float* right, unsigned long frames, bool xrun) noexcept {
   const double t0 = thread_cpu_s();
   fn_(user_, left, right, frames);
-  if (xrun) stats_.xruns.fetch_add(1, std::memory_order_relaxed);
+  if (xrun) {
+    const std::uint64_t b = stats_.blocks.load(std::memory_order_relaxed) + 1;
+    if (stats_.xruns.fetch_add(1, std::memory_order_relaxed) == 0)
+      stats_.first_xrun_block.store(b, std::memory_order_relaxed);
+    stats_.last_xrun_block.store(b, std::memory_order_relaxed);
+  }
   const double load = (thread_cpu_s() - t0) / block_s_;
   stats_.load_last.store(load, std::memory_order_relaxed);
   if (load > stats_.load_max.load(std::memory_order_relaxed)) stats_.load_max.store(load, std::memory_order_relaxed);

@@ -26,6 +26,7 @@ using RenderFn = void (*)(void* user, float* left, float* right, unsigned long f
 /// Live counters, written by the audio thread, read by anyone.
 struct OutputStats {
   std::atomic<std::uint64_t> blocks{0}, xruns{0};
+  std::atomic<std::uint64_t> first_xrun_block{0}, last_xrun_block{0};  ///< 1-based; 0: none
   std::atomic<double> load_last{0}, load_max{0};  ///< CPU time / block duration
   std::atomic<double> load_sum{0};
 };
@@ -57,6 +58,10 @@ class AudioOutput {
   [[nodiscard]] double latency_s() const { return latency_; }
   [[nodiscard]] const OutputStats& stats() const { return stats_; }
 
+  /// Sets what on_block calls (start() does this; tests call on_block directly).
+  void prepare(RenderFn fn, void* user, unsigned long frames, double rate) noexcept {
+    fn_ = fn, user_ = user, block_s_ = double(frames) / rate;
+  }
   /// The audio thread's block (PortAudio's callback lands here): renders,
   /// counts xruns from the status flags, measures its own CPU time.
   void on_block(float* left, float* right, unsigned long frames, bool xrun) noexcept;

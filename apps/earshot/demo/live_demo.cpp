@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "audio_output.hpp"
+#include "block_render.hpp"
 #include "earshot/earshot.h"
 #include "earshot/errors.hpp"
 #include "earshot/scenes/motion_path.hpp"
@@ -45,28 +46,6 @@ class World {
  private:
   ESworld w_ = 0;
 };
-
-/// What the audio thread touches: the world and the preallocated capture.
-struct AudioSide {
-  ESworld world = 0;
-  std::vector<float> capture;  ///< interleaved stereo, sized before start
-  std::atomic<std::size_t> captured{0};
-};
-
-void render_block(void* user, float* left, float* right, unsigned long frames) {
-  auto& a = *static_cast<AudioSide*>(user);
-  if (esRender(a.world, left, right, static_cast<ESuint>(frames)) != ES_OK) {
-    std::fill(left, left + frames, 0.0f);
-    std::fill(right, right + frames, 0.0f);
-  }
-  const std::size_t at = a.captured.load(std::memory_order_relaxed);
-  const std::size_t n = std::min<std::size_t>(frames, (a.capture.size() - at) / 2);
-  for (std::size_t i = 0; i < n; ++i) {
-    a.capture[at + 2 * i] = left[i];
-    a.capture[at + 2 * i + 1] = right[i];
-  }
-  a.captured.store(at + 2 * n, std::memory_order_release);
-}
 
 void generate(void* user, float* out, ESuint frames) {
   static_cast<scenes::SignalSource*>(user)->generate(std::span<float>(out, frames));
@@ -241,6 +220,9 @@ long run_live(const LiveOptions& o) {
   std::printf("  played %.1f s: %llu blocks, %llu xruns, audio-thread load mean %.1f%% max %.1f%% of one core\n",
               double(blocks) * double(o.buffer) / rate, static_cast<unsigned long long>(blocks),
               static_cast<unsigned long long>(st.xruns.load()), 100 * mean, 100 * st.load_max.load());
+  if (st.xruns.load() > 0)
+    std::printf("  xruns between %.2f s and %.2f s\n", double(st.first_xrun_block.load()) * double(o.buffer) / rate,
+                double(st.last_xrun_block.load()) * double(o.buffer) / rate);
   if (!o.capture.empty()) {
     write_wav(o.capture, side.capture, side.captured.load(), static_cast<unsigned>(rate));
     std::printf("  captured %s\n", o.capture.c_str());

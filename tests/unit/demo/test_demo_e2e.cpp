@@ -3,6 +3,7 @@
 // with the simulated tracker. Slow (30 s of audio per scene): label slow.
 #include <gtest/gtest.h>
 #include <sys/types.h>
+#include <csignal>
 #include <unistd.h>
 
 #include <chrono>
@@ -22,7 +23,9 @@ using earshot::testing::run;
 /// A jackd on the dummy driver, under a unique server name, for the test's life.
 class DummyJack {
  public:
-  DummyJack() : name_("earshot-test-" + std::to_string(getpid())) {
+  DummyJack()
+      : name_("earshot-test-" + std::to_string(getpid()) + "-" +
+              std::to_string(std::chrono::steady_clock::now().time_since_epoch().count() % 1000000)) {
     setenv("JACK_NO_AUDIO_RESERVATION", "1", 1);
     setenv("JACK_DEFAULT_SERVER", name_.c_str(), 1);
     const std::string cmd = "jackd --no-realtime -n " + name_ + " -d dummy -r 48000 -p 128 >" + log() +
@@ -31,7 +34,9 @@ class DummyJack {
     std::this_thread::sleep_for(std::chrono::seconds(2));
   }
   ~DummyJack() {
-    if (pid_ > 0) run("kill " + std::to_string(pid_));
+    if (pid_ <= 0) return;
+    kill(pid_, SIGTERM);
+    for (int i = 0; i < 50 && kill(pid_, 0) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   DummyJack(const DummyJack&) = delete;
   DummyJack& operator=(const DummyJack&) = delete;

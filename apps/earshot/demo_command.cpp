@@ -37,7 +37,8 @@ struct DemoArgs {
   std::uint64_t seed = 1;
   std::string device, capture, capture_poses;
   unsigned long buffer = 128;
-  bool list_devices = false;
+  bool list_devices = false, no_window = false;
+  std::string screenshot;
   std::string why;  ///< why it renders instead of playing (empty: found here)
 };
 
@@ -128,6 +129,7 @@ void run_demo(const DemoArgs& a) {
     demo::LiveOptions o;
     o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtf = a.hrtf;
     o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
+    o.window = !a.no_window, o.screenshot = a.screenshot;
     try {
       const long xruns = demo::run_live(o);
       if (xruns > 0) std::printf("  (%ld xruns: try a larger --buffer)\n", xruns);
@@ -193,7 +195,9 @@ void add_demo_command(CLI::App& app) {
       ->check(CLI::Range(16, 8192));
   demo->add_option("--capture", a->capture, "Live: also write what the audio callback played to this WAV");
   demo->add_option("--capture-poses", a->capture_poses, "Live: write the head's yaw per control tick (CSV)");
-  demo->footer("Keys while playing: r recenter the head, q or Esc quit.\n"
+  demo->add_flag("--no-window", a->no_window, "Live: status line on the terminal even with a display");
+  demo->add_option("--screenshot", a->screenshot, "Live with a window: PNG of its last frame at the end");
+  demo->footer("Keys while playing (window and terminal): r recenter the head, q or Esc quit.\n"
                "Plays through PortAudio when there is a sound card or --device is given (e.g. a JACK server);\n"
                "otherwise says why and renders the same scene to --out.");
   demo->add_option("--hrtf", a->hrtf, "SOFA file (default: MIT KEMAR from libmysofa)");

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -18,6 +19,9 @@
 
 #include "audio_output.hpp"
 #include "block_render.hpp"
+#ifdef EARSHOT_DEMO_WINDOW
+#include "window.hpp"
+#endif
 #include "earshot/earshot.h"
 #include "earshot/errors.hpp"
 #include "earshot/scenes/motion_path.hpp"
@@ -185,6 +189,34 @@ long run_live(const LiveOptions& o) {
   std::printf("Keys: r recenter, q quit\n");
   std::fflush(stdout);
 
+#ifdef EARSHOT_DEMO_WINDOW
+  std::unique_ptr<DemoWindow> win;
+  WindowModel model;
+  if (o.window && (std::getenv("DISPLAY") || std::getenv("WAYLAND_DISPLAY"))) {
+    try {
+      win = std::make_unique<DemoWindow>("earshot demo - " + scene_file.filename().string());
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "earshot demo: %s; status on the terminal instead\n", e.what());
+    }
+  }
+  model.scene = scene_file.filename().string(), model.room = scene.room, model.tracker = tracker_note;
+  model.device = dev.name, model.latency_ms = out.latency_s() * 1e3;
+  model.rooms = {"none", "living-room", "small-room", "medium-room", "large-room", "concert-hall", "cathedral",
+                 "generic"};
+  for (std::size_t i = 0; i < model.rooms.size(); ++i)
+    if (model.rooms[i] == scene.room) model.room_index = int(i);
+  for (const auto& s : scene.sources) {
+    ViewSource v;
+    v.name = s.name, v.gain_db = float(s.gain_db), v.rolloff = float(s.distance.rolloff);
+    if (s.path)
+      for (int k = 0; k <= 64; ++k) {
+        const auto x = scenes::path_position(*s.path, k * 0.25);
+        v.path.push_back({float(x[0]), float(x[1]), float(x[2])});
+      }
+    model.sources.push_back(std::move(v));
+  }
+#endif
+  auto last_frame = std::chrono::steady_clock::now();
   RawTerminal term;
   std::vector<std::pair<double, double>> poses;  // t, yaw
   const bool status = isatty(STDERR_FILENO);
@@ -204,6 +236,33 @@ long run_live(const LiveOptions& o) {
     float pos[3], q[4];
     esGetHeadPose(w, pos, q);
     poses.emplace_back(t, yaw_deg(q));
+#ifdef EARSHOT_DEMO_WINDOW
+    // 30 frames a second: a software-rendered window (Xvfb, llvmpipe) must not starve the audio.
+    if (win && std::chrono::steady_clock::now() - last_frame >= std::chrono::milliseconds(33)) {
+      last_frame = std::chrono::steady_clock::now();
+      model.time_s = t, model.load = st.load_last.load(), model.load_max = st.load_max.load();
+      model.xruns = st.xruns.load(), model.blocks = st.blocks.load();
+      model.head_position = {pos[0] + float(L[0]), pos[1] + float(L[1]), pos[2] + float(L[2])};
+      model.head_orientation = {q[0], q[1], q[2], q[3]};
+      for (std::size_t i = 0; i < ids.size(); ++i) {
+        const auto x = scenes::source_position(scene.sources[i], t);
+        model.sources[i].position = {float(x[0]), float(x[1]), float(x[2])};
+      }
+      const WindowActions act = win->frame(model);
+      if (act.quit) break;
+      if (act.recenter) esRecenter(w);
+      if (act.room_changed) {
+        const auto& r = model.rooms[std::size_t(model.room_index)];
+        const bool on = r != "none";
+        if (on && esReverbPreset(w, r.c_str()) != ES_OK) model.message = esGetErrorMessage(w);
+        esReverbi(w, ES_REVERB_ENABLED, on ? 1 : 0);
+      }
+      for (int i : act.changed_sources) {
+        esSourcef(w, ids[std::size_t(i)], ES_GAIN, db(model.sources[std::size_t(i)].gain_db));
+        esSourcef(w, ids[std::size_t(i)], ES_ROLLOFF_FACTOR, model.sources[std::size_t(i)].rolloff);
+      }
+    }
+#endif
     const auto now = std::chrono::steady_clock::now();
     if (status && now - last_status > std::chrono::milliseconds(250)) {
       last_status = now;
@@ -214,6 +273,15 @@ long run_live(const LiveOptions& o) {
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   out.stop();
+#ifdef EARSHOT_DEMO_WINDOW
+  if (win) {
+    std::printf("  window: %ld frames drawn\n", win->frames());
+    if (!o.screenshot.empty()) {
+      win->screenshot(o.screenshot);
+      std::printf("  screenshot %s\n", o.screenshot.c_str());
+    }
+  }
+#endif
   if (status) std::fputc('\n', stderr);
   const auto blocks = st.blocks.load();
   const double mean = blocks ? st.load_sum.load() / double(blocks) : 0.0;

@@ -15,6 +15,8 @@ struct LiveOptions {
   std::filesystem::path capture;        ///< WAV of what the callback wrote
   std::filesystem::path capture_poses;  ///< CSV: t, yaw (deg), per control tick
   bool list_devices = false;
+  bool window = true;                   ///< open the window when there is a display
+  std::filesystem::path screenshot;     ///< window: PNG of the last frame
 };
 
 /// Prints the PortAudio output devices.

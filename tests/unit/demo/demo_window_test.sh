@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# GUI test of `earshot demo` (label gui): under Xvfb, with a JACK server on its
+# dummy driver as the audio device, the window opens, draws frames and writes
+# a screenshot. Exit 77 (skipped) with a message when Xvfb or jackd is missing.
+# Usage: demo_window_test.sh EARSHOT_EXE OUT.png
+set -euo pipefail
+exe=$1 png=$2
+command -v xvfb-run >/dev/null || { echo "SKIP: xvfb-run missing (apt-get install xvfb xauth)"; exit 77; }
+command -v jackd >/dev/null || { echo "SKIP: jackd missing (apt-get install jackd2)"; exit 77; }
+export JACK_NO_AUDIO_RESERVATION=1 JACK_DEFAULT_SERVER="earshot-gui-$$"
+jackd --no-realtime -n "$JACK_DEFAULT_SERVER" -d dummy -r 48000 -p 128 >"${png%.png}.jack.log" 2>&1 &
+jack=$!
+trap 'kill $jack 2>/dev/null || true' EXIT
+sleep 2
+rm -f "$png"
+out=$(LP_NUM_THREADS=1 xvfb-run -a -s "-screen 0 1280x900x24" "$exe" demo --device system --duration 5 \
+        --screenshot "$png" </dev/null 2>&1)
+echo "$out" | grep -v '^ALSA\|^Cannot\|JackShm\|jack server'
+frames=$(echo "$out" | sed -n 's/.*window: \([0-9]*\) frames drawn.*/\1/p')
+[ -n "$frames" ] && [ "$frames" -ge 30 ] || { echo "FAIL: the window drew ${frames:-no} frames"; exit 1; }
+[ -s "$png" ] && head -c 8 "$png" | grep -q PNG || { echo "FAIL: no PNG screenshot at $png"; exit 1; }
+echo "OK: $frames frames, screenshot $png"

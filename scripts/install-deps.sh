@@ -23,6 +23,8 @@ packages=(
   python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
   portaudio19-dev        # real-time audio output of `earshot demo` (Debian's is built with JACK and ALSA)
   jackd2 libjack-jackd2-dev  # JACK: the demo's end-to-end test plays through its dummy driver (no sound card)
+  libimgui-dev libglfw3-dev libgl-dev   # the demo's window (Dear ImGui over GLFW + OpenGL)
+  xvfb xauth             # the demo window's test and screenshot without a display
 )
 
 missing=()

@@ -186,6 +186,9 @@ double* reverb_field(audio::RoomParams& r, ESenum p) {
   }
 }
 
+/// Why the last esCreateWorld on this thread failed: esGetErrorMessage(0).
+thread_local std::string create_error;
+
 ESenum bad_enum(World& w, const char* call, ESenum p) {
   return fail(w, ES_INVALID_ENUM, format("%s: 0x%x is not a property this call takes", call, static_cast<unsigned>(p)));
 }
@@ -232,7 +235,10 @@ ES_API void esWorldParamsDefault(ESworldparams* p) {
 }
 
 ES_API ESenum esCreateWorld(const ESworldparams* params, ESworld* out) {
-  if (!params || !out || params->size != sizeof(ESworldparams)) return ES_INVALID_VALUE;
+  if (!params || !out || params->size != sizeof(ESworldparams)) {
+    create_error = "esCreateWorld: params or world is NULL, or params->size is not sizeof(ESworldparams)";
+    return ES_INVALID_VALUE;
+  }
   *out = 0;
   const ESworldparams& p = *params;
   if (p.sample_rate < 8000 || p.sample_rate > 192000 || p.block_size < 1 || p.block_size > 8192 ||
@@ -241,16 +247,26 @@ ES_API ESenum esCreateWorld(const ESworldparams* params, ESworld* out) {
       !std::isfinite(p.speed_of_sound) || p.speed_of_sound < 1 || p.speed_of_sound > 1e5 ||
       (p.propagation_delay != ES_FALSE && p.propagation_delay != ES_TRUE) ||
       (p.late_reverb != ES_REVERB_FDN && p.late_reverb != ES_REVERB_SCHROEDER) || !std::isfinite(p.head_radius_m) ||
-      (p.head_radius_m != 0.0f && (p.head_radius_m < 0.01f || p.head_radius_m > 0.5f)))
+      (p.head_radius_m != 0.0f && (p.head_radius_m < 0.01f || p.head_radius_m > 0.5f))) {
+    create_error = format(
+        "esCreateWorld: a parameter is out of range: sample_rate %u (8000..192000), block_size %u (1..8192), "
+        "max_sources %u (1..256), max_buffers %u (1..4096), doppler_factor %g (0..100), speed_of_sound %g "
+        "(1..1e5), propagation_delay %d, late_reverb 0x%x, head_radius_m %g (0 or 0.01..0.5)",
+        p.sample_rate, p.block_size, p.max_sources, p.max_buffers, double(p.doppler_factor),
+        double(p.speed_of_sound), int(p.propagation_delay), unsigned(p.late_reverb), double(p.head_radius_m));
     return ES_INVALID_VALUE;
+  }
   std::unique_ptr<World> w;
   try {
     w = std::make_unique<World>(p);
   } catch (const Failure& f) {
+    create_error = f.message;  // e.g. the SOFA file's own error, naming it
     return f.code;
   } catch (const std::bad_alloc&) {
+    create_error = "esCreateWorld: out of memory";
     return ES_OUT_OF_MEMORY;
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
+    create_error = std::string("esCreateWorld: ") + e.what();
     return ES_INVALID_VALUE;
   }
   Registry& r = registry();
@@ -267,6 +283,7 @@ ES_API ESenum esCreateWorld(const ESworldparams* params, ESworld* out) {
     *out = h;
     return ES_OK;
   }
+  create_error = format("esCreateWorld: %zu worlds exist, the most there can be", kMaxWorlds);
   return ES_OUT_OF_MEMORY;
 }
 
@@ -297,6 +314,7 @@ ES_API ESenum esSetControlThread(ESworld h) {
 }
 
 ES_API const char* esGetErrorMessage(ESworld h) {
+  if (h == 0) return create_error.c_str();  // any thread: its own last esCreateWorld
   Guard g(h);
   if (!g.world()) return "invalid world handle";
   if (!g.world()->on_control_thread()) return "not the world's control thread";

@@ -201,7 +201,8 @@ ES_API ESenum esDestroyWorld(ESworld world);
 ES_API ESenum esSetControlThread(ESworld world);
 /* Why the last failing call on this world failed; "" if none failed yet.
  * The text stays valid until the next failing call or esDestroyWorld.
- * Control thread. */
+ * Control thread. With world 0 (any thread): why the calling thread's last
+ * failing esCreateWorld failed (e.g. the SOFA file's error, naming it). */
 ES_API const char *esGetErrorMessage(ESworld world);
 
 ES_API ESenum esWorldi(ESworld world, ESenum param, ESint value);

@@ -63,21 +63,27 @@ SourceEvent WiimoteSource::connect() {
   std::vector<HidDeviceInfo> found;
   for (auto& d : hid_->enumerate(w::kVendorNintendo, kProducts))
     if (d.product_name.find("-UC") == std::string::npos) found.push_back(d);  // the Wii U Pro (RVL-CNT-01-UC) shares 0330
+  // Before the first connection a failure is the person's to fix: thrown, or
+  // (waiting for the remote) said in a searching note on every attempt.
+  const auto not_yet = [&](const std::string& why) -> SourceEvent {
+    if (!opt_.wait_for_remote) throw WiimoteError(why);
+    return make_note(SourceNote::Kind::searching, why);
+  };
   if (found.empty()) {
-    if (!ever_connected_) throw WiimoteError(no_wiimote_message());
+    if (!ever_connected_) return not_yet(no_wiimote_message());
     return make_note(SourceNote::Kind::timeout);
   }
   const HidDeviceInfo& dev = found.front();
   try {
     hid_->open(dev);
   } catch (const HidOpenError& e) {
-    if (!ever_connected_) throw WiimoteError(e.what());
+    if (!ever_connected_) return not_yet(e.what());
     return make_note(SourceNote::Kind::timeout);
   }
   std::string why;
   if (!initialise(why)) {
     hid_->close();
-    if (!ever_connected_) throw WiimoteError("Wii Remote at " + dev.path + " did not initialise: " + why);
+    if (!ever_connected_) return not_yet("Wii Remote at " + dev.path + " did not initialise: " + why);
     return make_note(SourceNote::Kind::timeout);
   }
   connected_ = ever_connected_ = true;
@@ -174,7 +180,10 @@ std::optional<SourceEvent> WiimoteSource::on_report(std::span<const std::uint8_t
   CameraFrame f;
   f.dots.t = opt_.clock();
   for (std::size_t s = 0; s < 4; ++s)
-    if (ir[s]) f.dots.slots[s] = Vec2(ir[s]->x, ir[s]->y);
+    if (ir[s]) {
+      f.dots.slots[s] = Vec2(ir[s]->x, ir[s]->y);
+      if (opt_.mode != w::IrMode::basic) f.dot_size[s] = ir[s]->size;  // basic mode has no sizes
+    }
   if (d->accel) {
     const auto g = cal_.apply(*d->accel);
     f.accel_g = remote_accel_to_camera(Vec3(g[0], g[1], g[2]));

@@ -156,6 +156,38 @@ TEST(WiimoteSession, NoRemoteFailsAtOnceWithHowToPair) {
   }
 }
 
+// Waiting for the remote (the plugin's way): no remote is a searching note
+// with how to pair one, on every attempt, and the remote is taken when it
+// appears.
+TEST(WiimoteSession, WaitingForTheRemoteSaysHowToPairAndKeepsLooking) {
+  std::deque<Step> s{{K::absent_once, {}}, {K::absent_once, {}}};
+  add_init(s);
+  s.push_back({K::reply, ir_report()});
+  auto hid = std::make_unique<ScriptedHid>(s);
+  ScriptedHid& fake = *hid;
+  FakeClock clock;
+  WiimoteOptions o = options(clock);
+  o.wait_for_remote = true;
+  WiimoteSource src(std::move(hid), o);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    const auto e = src.next(std::chrono::milliseconds(10));
+    ASSERT_TRUE(std::holds_alternative<SourceNote>(e));
+    const auto& n = std::get<SourceNote>(e);
+    EXPECT_EQ(n.kind, SourceNote::Kind::searching);
+    EXPECT_NE(n.message.find("no Wii Remote found"), std::string::npos) << n.message;
+    EXPECT_NE(n.message.find("bluetoothctl"), std::string::npos) << n.message;
+  }
+  auto e = src.next(std::chrono::milliseconds(10));
+  ASSERT_TRUE(std::holds_alternative<SourceNote>(e));
+  EXPECT_EQ(std::get<SourceNote>(e).kind, SourceNote::Kind::connected);
+  e = src.next(std::chrono::milliseconds(10));
+  ASSERT_TRUE(std::holds_alternative<CameraFrame>(e));
+  const auto& f = std::get<CameraFrame>(e);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(f.dot_size[i], 2) << "slot " << i;  // extended format sizes
+  EXPECT_EQ(fake.enumerations, 3);
+  for (const auto& err : fake.errors) ADD_FAILURE() << err;
+}
+
 TEST(WiimoteSession, PermissionDeniedNamesTheUdevRule) {
   auto hid = std::make_unique<ScriptedHid>(std::deque<Step>{});
   hid->open_error = HidOpenError(HidOpenError::Reason::permission_denied,

@@ -7,6 +7,7 @@
 // device) so its state machine can report it instead of guessing.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -23,6 +24,8 @@ struct CameraFrame {
   DotFrame dots;                  ///< dots.t: seconds on the source's clock
   std::optional<Vec3> accel_g;    ///< gravity + motion in the camera frame, g
   std::uint16_t buttons = 0;      ///< wiimote::Buttons bits
+  /// Blob size per slot as the camera reports it (Wii: 0..15); -1 unknown.
+  std::array<int, kSlots> dot_size{-1, -1, -1, -1};
 };
 
 /// A head pose from a source that solves its own (opentrack, OSC): the head
@@ -40,6 +43,7 @@ struct SourceNote {
     disconnected,  ///< the device went away; the source tries to reconnect
     connected,     ///< (re)connected and initialised
     recenter,      ///< the user asked to recenter (a button, an OSC message)
+    searching,     ///< no device yet (never connected); the source keeps looking
   };
   Kind kind = Kind::timeout;
   std::string message;      ///< for people: what happened and what to do

@@ -37,6 +37,10 @@ struct LiveConfig {
   double direct_timeout_s = 2.0;
   std::uint16_t recenter_buttons = 0x0800 | 0x8000;  ///< wiimote::Buttons::a | home
   bool level_from_accel = true;
+  /// LiveTracker: when the source ends or fails, keep the thread publishing
+  /// the lost pose (hold, then ease to neutral) until it is stopped, instead
+  /// of stopping with the pose where it was (a host that plays on wants this).
+  bool keep_running_after_end = false;
   int still_frames = 30;        ///< accelerometer steady this many frames = still
   double still_tolerance_g = 0.02;
 };

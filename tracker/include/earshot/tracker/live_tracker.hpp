@@ -2,13 +2,20 @@
 // (live_pipeline.hpp) and publishes every pose into a PoseSlot, the only
 // link to the audio side. Starts in the constructor, stops in the destructor
 // (std::jthread: stop requested, then joined); a source that ends or fails
-// stops the thread by itself and says why in status().
+// stops the thread by itself and says why in status() (or, with
+// LiveConfig::keep_running_after_end, the thread goes on publishing the lost
+// pose, held then eased to neutral, until stopped).
+//
+// status() is for the control side (a UI, a status line): a copy made under
+// a mutex shared with the tracker thread only, never with the audio side.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -24,10 +31,30 @@ class LiveTracker {
   /// Keep it short: the next frame waits for it.
   using PoseCallback = std::function<void(const HeadPose&)>;
 
+  /// What the source said about its device, from its notes.
+  enum class Link {
+    unknown,       ///< nothing said yet (simulator, replay, UDP: no device to find)
+    searching,     ///< no device found yet; still looking (see note)
+    connected,     ///< the device answered and was set up
+    disconnected,  ///< the device went away; reconnecting
+  };
+
+  /// One dot of the newest camera frame, in camera pixels (+x right, +y down).
+  struct Dot {
+    double x = 0, y = 0;
+    int size = -1;   ///< as the camera reports it (Wii: 0..15); -1 unknown
+    int label = -1;  ///< LED 0..3 the pipeline assigned; -1 unlabelled
+  };
+
   struct Status {
     PoseState state = PoseState::searching;
     bool running = true;
+    bool ended = false;  ///< the source ended (replay done) or failed (see error)
+    Link link = Link::unknown;
     std::uint64_t frames = 0, published = 0, dropped = 0, rejected_dots = 0;
+    double rate_hz = 0.0;  ///< camera frames or direct poses over the last second (wall clock)
+    bool camera = false;   ///< the source delivers camera frames (dots below), not poses
+    std::array<std::optional<Dot>, kSlots> dots;  ///< newest frame, by camera slot; none when stale
     std::string source;  ///< the source's describe()
     std::string note;    ///< the last note from the source (connected, disconnected...)
     std::string error;   ///< why the thread stopped, when a source failed
@@ -51,6 +78,7 @@ class LiveTracker {
 
   std::unique_ptr<FrameSource> source_;
   PoseSlot& slot_;
+  bool keep_running_after_end_;
   LivePipeline pipeline_;
   PoseCallback on_pose_;
   std::atomic<bool> recenter_{false};

@@ -10,7 +10,9 @@
 //
 // With no remote at the first attempt it throws WiimoteError (with how to
 // pair one) instead of waiting forever; after a first connection it keeps
-// trying.
+// trying. With `wait_for_remote` (the plugin's choice: its host plays on and
+// shows the message) it never throws for a missing remote: it says so in a
+// `searching` note, with how to pair one, and keeps looking every `retry_s`.
 #pragma once
 
 #include <functional>
@@ -34,6 +36,7 @@ struct WiimoteOptions {
   double retry_s = 1.0;                                      ///< between reconnection attempts
   std::chrono::milliseconds reply_timeout{500};              ///< for each ack / read reply
   std::function<double()> clock;                             ///< seconds; default steady clock
+  bool wait_for_remote = false;  ///< no remote yet: a `searching` note instead of WiimoteError
 };
 
 /// The message for "no remote": how to pair one with BlueZ.

@@ -758,6 +758,18 @@ ES_API ESenum esSetHeadPose(ESworld h, const ESfloat* position, const ESfloat* o
   });
 }
 
+ES_API ESenum esGetTrackerState(ESworld h, EStrackerstate* state) {
+  return control(h, "esGetTrackerState", [&](World& w) -> ESenum {
+    if (!state) return fail(w, ES_INVALID_VALUE, "esGetTrackerState: NULL pointer");
+    if (state->size < sizeof(EStrackerstate))
+      return fail(w, ES_INVALID_VALUE,
+                  format("esGetTrackerState: state->size = %u, expected sizeof(EStrackerstate) = %zu",
+                         state->size, sizeof(EStrackerstate)));
+    w.tracker_state(*state);
+    return ES_OK;
+  });
+}
+
 // ---- rendering ----
 
 ES_API ESenum esRender(ESworld h, float* left, float* right, ESuint frames) {
@@ -786,6 +798,7 @@ constexpr ESproctable kTable = {
     esReverbPreset, esReverbf, esReverbi, esGetReverbf,
     esAttachTracker, esRecenter, esGetHeadPose, esSetHeadPose,
     esRender,
+    esGetTrackerState,  // ABI 1.1
 };
 }  // namespace
 

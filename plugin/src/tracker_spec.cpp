@@ -31,7 +31,11 @@ std::unique_ptr<tracker::FrameSource> make_frame_source(std::string_view spec) {
   const std::size_t colon = spec.find(':');
   const std::string_view kind = spec.substr(0, colon);
   const bool bare = colon == std::string_view::npos;
-  if (kind == "wiimote" && bare) return std::make_unique<WiimoteSource>(make_hidapi_transport());
+  if (kind == "wiimote" && bare) {
+    WiimoteOptions opt;
+    opt.wait_for_remote = true;  // the host plays on and shows how to pair one (esGetTrackerState)
+    return std::make_unique<WiimoteSource>(make_hidapi_transport(), opt);
+  }
   if (kind == "sim" && bare) return std::make_unique<SimSource>(Camera::with_focal(1280.0), LedModel::thesis(), SimSourceConfig{});
   if (kind == "replay" && !bare) return std::make_unique<ReplaySource>(std::string(spec.substr(colon + 1)), Pacing::real_time);
   if (kind == "opentrack")

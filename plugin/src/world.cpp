@@ -9,6 +9,7 @@
 #include "earshot/tracker/live_tracker.hpp"
 #include "orientation.hpp"
 #include "tracker_spec.hpp"
+#include "tracker_state.hpp"
 
 namespace earshot::plugin {
 namespace {
@@ -164,7 +165,9 @@ void World::attach_tracker(const char* spec) {
   tracker_.reset();  // stops and joins the old one
   if (!spec || !*spec) return;
   try {
-    tracker_ = std::make_unique<tracker::LiveTracker>(make_frame_source(spec), tracker_slot_);
+    tracker::LiveConfig cfg;
+    cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to neutral
+    tracker_ = std::make_unique<tracker::LiveTracker>(make_frame_source(spec), tracker_slot_, cfg);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
   }
@@ -173,6 +176,15 @@ void World::attach_tracker(const char* spec) {
 
 void World::recenter() {
   if (tracker_) tracker_->recenter();
+}
+
+void World::tracker_state(EStrackerstate& out) const {
+  if (!tracker_) {
+    fill_tracker_state(nullptr, out);
+    return;
+  }
+  const tracker::LiveTracker::Status st = tracker_->status();
+  fill_tracker_state(&st, out);
 }
 
 // ---- audio thread ----

@@ -117,6 +117,9 @@ class World {
 
   void attach_tracker(const char* spec);  ///< throws Failure
   void recenter();
+  /// The tracker's status for the host (locks the tracker's status mutex,
+  /// shared with the tracker thread only). Writes all of `out` but its size.
+  void tracker_state(EStrackerstate& out) const;
   [[nodiscard]] bool propagation_delay() const { return params_.propagation_delay != ES_FALSE; }
 
   // ---- any thread ----

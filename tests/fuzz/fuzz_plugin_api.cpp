@@ -7,6 +7,7 @@
 // Input: a sequence of operations, one opcode byte each followed by its
 // argument bytes (handles picked from the live ones, stale ones or raw
 // bytes; floats raw, so NaN and infinity come up, or from a table of edges).
+// esGetTrackerState gets any struct size and NULL; its answer must be whole.
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -138,7 +139,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   int ops = 0;
   while (!in.empty() && ops++ < 256) {
     const ESworld target = in.u8() < 240 ? w : (in.u8() & 1 ? s.dead_world : in.u32());
-    const std::uint8_t op = in.u8() % 22;
+    const std::uint8_t op = in.u8() % 23;
     switch (op) {
       case 0: {
         ESsource src = 0;
@@ -243,6 +244,20 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 19: esDopplerFactor(target, in.f32()); break;
       case 20: esSpeedOfSound(target, in.f32()); break;
+      case 21: {  // the tracker's state (ABI 1.1): any size, NULL, a spec that cannot start
+        EStrackerstate ts;
+        std::memset(&ts, 0xA5, sizeof ts);
+        const std::uint8_t how = in.u8();
+        ts.size = how < 200 ? ESuint{sizeof ts} : in.u32();
+        if (how == 255) esAttachTracker(target, "carrier-pigeon");
+        const ESenum e = esGetTrackerState(target, how == 254 ? nullptr : &ts);
+        if (e == ES_OK) {  // every field written: texts NUL-ended, dots within the table
+          if (ts.dot_count > ES_TRACKER_MAX_DOTS || !std::memchr(ts.message, 0, sizeof ts.message) ||
+              !std::memchr(ts.source, 0, sizeof ts.source) || !std::isfinite(ts.rate_hz))
+            std::abort();
+        }
+        break;
+      }
       default: {
         const char* m = esGetErrorMessage(target);
         if (!m) std::abort();

@@ -28,6 +28,9 @@
  *     it never blocks, allocates or locks. A second esRender() on the same
  *     world while one is running gets ES_WRONG_THREAD.
  *   - esGetHeadPose() and esGetErrorString() may come from any thread.
+ *   - esGetTrackerState() comes from the control thread (it may wait a
+ *     moment for the tracker thread's status lock; never from the audio
+ *     thread).
  *   - Source callbacks (ESsourcecallback) run on the audio thread, inside
  *     esRender().
  *   - esDestroyWorld() must come from the control thread; it waits for a
@@ -62,7 +65,7 @@ extern "C" {
  * minor version only appends functions to the table; a new major one breaks
  * it. */
 #define ES_ABI_VERSION_MAJOR 1u
-#define ES_ABI_VERSION_MINOR 0u
+#define ES_ABI_VERSION_MINOR 1u /* 1: esGetTrackerState */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
 
 typedef int32_t ESenum;
@@ -263,6 +266,47 @@ ES_API ESenum esGetHeadPose(ESworld world, ESfloat *position, ESfloat *orientati
  * one, when no tracker is attached. Goes through the commit mode. */
 ES_API ESenum esSetHeadPose(ESworld world, const ESfloat *position, const ESfloat *orientation);
 
+/* ---- Tracker state (esGetTrackerState, ABI 1.1) ----------------------- */
+/* What the attached tracker is doing, for a host's UI: its state, its rate,
+ * the dots its camera sees and a message for people. */
+#define ES_TRACKER_NONE 0x5000         /* no tracker attached */
+#define ES_TRACKER_SEARCHING 0x5001    /* looking for its device (no Wii Remote found yet),
+                                        * or waiting for the first frame or packet */
+#define ES_TRACKER_CONNECTED 0x5002    /* the device answers, but no pose yet (dots not in view) */
+#define ES_TRACKER_TRACKING 0x5003     /* poses from the camera (or a short gap bridged) */
+#define ES_TRACKER_LOST 0x5004         /* no pose: the head holds, then eases to straight
+                                        * ahead; also after a source ended or failed */
+#define ES_TRACKER_DISCONNECTED 0x5005 /* the device went away; reconnecting by itself */
+
+#define ES_TRACKER_MAX_DOTS 4
+#define ES_CAMERA_WIDTH 1024  /* the Wii camera's image, pixels: x 0..1023 right */
+#define ES_CAMERA_HEIGHT 768  /* y 0..767 down */
+
+typedef struct EStrackerdot {
+  ESfloat x, y;  /* camera pixels (+x right, +y down) */
+  ESint size;    /* blob size as the camera reports it (Wii: 0..15); -1 unknown */
+  ESint label;   /* LED 0..3 the tracker assigned to this dot; -1 unlabelled */
+  ESint slot;    /* the camera's slot 0..3 the dot came in */
+} EStrackerdot;
+
+typedef struct EStrackerstate {
+  ESuint size;           /* set to sizeof(EStrackerstate) before the call */
+  ESenum state;          /* ES_TRACKER_* */
+  ESboolean running;     /* the tracker thread runs (ES_FALSE: none, or it stopped) */
+  ESfloat rate_hz;       /* camera frames (or poses) per second over the last second */
+  ESuint frames;         /* camera frames or poses since it was attached */
+  ESuint dropped;        /* malformed input dropped (reports, packets, lines) */
+  ESuint dot_count;      /* dots in the newest camera frame, 0..4 (0 when stale) */
+  EStrackerdot dots[ES_TRACKER_MAX_DOTS];
+  char source[64];       /* the spec, e.g. "wiimote", "replay:walk.csv" (cut, NUL-ended) */
+  char message[256];     /* for people: what happened and what to do, e.g. how to pair
+                          * a Wii Remote; "" when there is nothing to say (NUL-ended) */
+} EStrackerstate;
+
+/* Fills `state` (size set by the caller; smaller than this header's struct:
+ * ES_INVALID_VALUE). Without a tracker: ES_TRACKER_NONE. Control thread. */
+ES_API ESenum esGetTrackerState(ESworld world, EStrackerstate *state);
+
 /* One block: block_size frames into left and right. The audio thread. */
 ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
 
@@ -310,6 +354,8 @@ typedef struct ESproctable {
   ESenum (*GetHeadPose)(ESworld, ESfloat *, ESfloat *);
   ESenum (*SetHeadPose)(ESworld, const ESfloat *, const ESfloat *);
   ESenum (*Render)(ESworld, float *, float *, ESuint);
+  /* ABI 1.1 */
+  ESenum (*GetTrackerState)(ESworld, EStrackerstate *);
 } ESproctable;
 
 /* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),

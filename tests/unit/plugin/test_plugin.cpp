@@ -93,7 +93,8 @@ constexpr std::array kTableNames = {
     "esCreateSource", "esDeleteSource", "esSourcef", "esSource3f", "esSourcefv", "esSourcei", "esGetSourcef",
     "esGetSourcefv", "esGetSourcei", "esSourceCallback", "esSourcePlay", "esSourcePause", "esSourceStop",
     "esSourceRewind", "esReverbPreset", "esReverbf", "esReverbi", "esGetReverbf", "esAttachTracker",
-    "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender"};
+    "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender",
+    "esGetTrackerState"};  // ABI 1.1 appended
 
 TEST(PluginAbi, TableVersionAndLayout) {
   const ESproctable* t = esGetProcTable(ES_ABI_VERSION_MAJOR);
@@ -106,6 +107,9 @@ TEST(PluginAbi, TableVersionAndLayout) {
   // Layout of ABI 1: two 32-bit words, then one pointer per function, frozen.
   EXPECT_EQ(offsetof(ESproctable, GetErrorString), 8u);
   EXPECT_EQ(offsetof(ESproctable, Render), 8u + 39u * sizeof(void*));
+  // ABI 1.1 appends esGetTrackerState after Render; nothing before it moves.
+  EXPECT_EQ(t->abi_version & 0xFFFFu, 1u);
+  EXPECT_EQ(offsetof(ESproctable, GetTrackerState), 8u + 40u * sizeof(void*));
   EXPECT_EQ(sizeof(ESproctable), 8u + kTableNames.size() * sizeof(void*));
   EXPECT_EQ(sizeof(ESworldparams), 48u) << "ESworldparams changed: that is a new ABI";
   // The struct's size field is checked, and so is every field.

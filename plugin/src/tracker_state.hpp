@@ -1,0 +1,16 @@
+// The live tracker's status (tracker::LiveTracker::Status, copied on the
+// control thread) as the C API's EStrackerstate: one state out of the
+// pipeline's pose state, the source's link notes and whether it ended, the
+// rate, the newest frame's dots with their labels, and a message for people.
+// Pure, so tests map a scripted session's status without a world.
+#pragma once
+
+#include "earshot/earshot.h"
+#include "earshot/tracker/live_tracker.hpp"
+
+namespace earshot::plugin {
+
+/// `status` null: no tracker attached. Writes every field of `out` but `size`.
+void fill_tracker_state(const tracker::LiveTracker::Status* status, EStrackerstate& out);
+
+}  // namespace earshot::plugin

@@ -299,7 +299,7 @@ typedef struct EStrackerstate {
   ESuint dot_count;      /* dots in the newest camera frame, 0..4 (0 when stale) */
   EStrackerdot dots[ES_TRACKER_MAX_DOTS];
   char source[64];       /* the spec, e.g. "wiimote", "replay:walk.csv" (cut, NUL-ended) */
-  char message[256];     /* for people: what happened and what to do, e.g. how to pair
+  char message[512];     /* for people: what happened and what to do, e.g. how to pair
                           * a Wii Remote; "" when there is nothing to say (NUL-ended) */
 } EStrackerstate;
 

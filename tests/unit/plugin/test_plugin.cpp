@@ -110,6 +110,8 @@ TEST(PluginAbi, TableVersionAndLayout) {
   // ABI 1.1 appends esGetTrackerState after Render; nothing before it moves.
   EXPECT_EQ(t->abi_version & 0xFFFFu, 1u);
   EXPECT_EQ(offsetof(ESproctable, GetTrackerState), 8u + 40u * sizeof(void*));
+  EXPECT_EQ(sizeof(EStrackerdot), 20u) << "EStrackerdot changed: that is a new ABI";
+  EXPECT_EQ(sizeof(EStrackerstate), 684u) << "EStrackerstate changed: that is a new ABI";
   EXPECT_EQ(sizeof(ESproctable), 8u + kTableNames.size() * sizeof(void*));
   EXPECT_EQ(sizeof(ESworldparams), 48u) << "ESworldparams changed: that is a new ABI";
   // The struct's size field is checked, and so is every field.

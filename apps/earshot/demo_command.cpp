@@ -26,6 +26,7 @@
 #include "earshot/tracker/pose_track_writer.hpp"
 #include "earshot/tracker/sim_source.hpp"
 #include "demo/audio_output.hpp"
+#include "demo/keys.hpp"
 #include "demo/live_demo.hpp"
 
 namespace earshot::app {
@@ -197,9 +198,12 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--capture-poses", a->capture_poses, "Live: write the head's yaw per control tick (CSV)");
   demo->add_flag("--no-window", a->no_window, "Live: status line on the terminal even with a display");
   demo->add_option("--screenshot", a->screenshot, "Live with a window: PNG of its last frame at the end");
-  demo->footer("Keys while playing (window and terminal): r recenter the head, q or Esc quit.\n"
+  demo->footer("Keys while playing (window and terminal): " + demo::keys_line() +
+               ".\n"
                "Plays through PortAudio when there is a sound card or --device is given (e.g. a JACK server);\n"
-               "otherwise says why and renders the same scene to --out.");
+               "otherwise says why and renders the same scene to --out. Live, the tracker's state and messages\n"
+               "(no remote found, disconnected, lost) show in the window and on the terminal; a scene file\n"
+               "with errors is named with its error and Circles plays instead.");
   demo->add_option("--hrtf", a->hrtf, "SOFA file (default: MIT KEMAR from libmysofa)");
   demo->add_option("--out,-o", a->out, "WAV file written when it cannot play")->capture_default_str();
   demo->add_option("--duration", a->duration, "Seconds (default: the scene's)");

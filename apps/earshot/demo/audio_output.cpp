@@ -1,9 +1,14 @@
 #include "audio_output.hpp"
 
 #include <portaudio.h>
+#include <pthread.h>
+#include <sched.h>
 #include <time.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <thread>
 #include <stdexcept>
 
 #include "earshot/errors.hpp"
@@ -98,6 +103,10 @@ void AudioOutput::stop() {
 }
 
 void AudioOutput::on_block(float* left, float* right, unsigned long frames, bool xrun) noexcept {
+  if (!audio_thread_known_.load(std::memory_order_relaxed)) {  // once: who the audio thread is (no syscall)
+    audio_thread_.store(pthread_self(), std::memory_order_relaxed);
+    audio_thread_known_.store(true, std::memory_order_release);
+  }
   const double t0 = thread_cpu_s();
   fn_(user_, left, right, frames);
   if (xrun) {
@@ -111,6 +120,34 @@ void AudioOutput::on_block(float* left, float* right, unsigned long frames, bool
   if (load > stats_.load_max.load(std::memory_order_relaxed)) stats_.load_max.store(load, std::memory_order_relaxed);
   stats_.load_sum.store(stats_.load_sum.load(std::memory_order_relaxed) + load, std::memory_order_relaxed);
   stats_.blocks.fetch_add(1, std::memory_order_release);
+}
+
+}  // namespace earshot::demo
+
+namespace earshot::demo {
+
+std::string AudioOutput::make_audio_thread_realtime(int priority) {
+  for (int i = 0; i < 200 && !audio_thread_known_.load(std::memory_order_acquire); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  if (!audio_thread_known_.load(std::memory_order_acquire)) return "the audio callback has not run yet";
+  const pthread_t t = audio_thread_.load(std::memory_order_relaxed);
+  int policy = 0;
+  sched_param sp{};
+  if (pthread_getschedparam(t, &policy, &sp) == 0 && (policy == SCHED_FIFO || policy == SCHED_RR))
+    return "";  // the audio server made it real-time already
+  sp.sched_priority = std::clamp(priority, sched_get_priority_min(SCHED_FIFO), sched_get_priority_max(SCHED_FIFO));
+  if (const int e = pthread_setschedparam(t, SCHED_FIFO, &sp); e != 0)
+    return std::string("cannot make the audio thread real-time (") + std::strerror(e) +
+           "; see /etc/security/limits.d for rtprio)";
+  return "";
+}
+
+bool AudioOutput::audio_thread_realtime() const {
+  if (!audio_thread_known_.load(std::memory_order_acquire)) return false;
+  int policy = 0;
+  sched_param sp{};
+  return pthread_getschedparam(audio_thread_.load(std::memory_order_relaxed), &policy, &sp) == 0 &&
+         (policy == SCHED_FIFO || policy == SCHED_RR);
 }
 
 }  // namespace earshot::demo

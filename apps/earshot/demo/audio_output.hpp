@@ -3,6 +3,8 @@
 // the default), opens it at a requested buffer size, reports the latency it
 // got, and counts xruns and measures the callback's load without allocating
 // or locking in the callback.
+#include <pthread.h>
+
 #include <atomic>
 #include <cstdint>
 #include <stdexcept>
@@ -66,12 +68,21 @@ class AudioOutput {
   /// counts xruns from the status flags, measures its own CPU time.
   void on_block(float* left, float* right, unsigned long frames, bool xrun) noexcept;
 
+  /// From the control thread, once the stream runs: makes the audio thread
+  /// SCHED_FIFO at `priority` unless the audio server made it real-time
+  /// already (JACK does, unless run with --no-realtime). Returns "" or why
+  /// it could not (no permission: the audio then competes with the window).
+  std::string make_audio_thread_realtime(int priority = 70);
+  [[nodiscard]] bool audio_thread_realtime() const;
+
  private:
   void* stream_ = nullptr;
   RenderFn fn_ = nullptr;
   void* user_ = nullptr;
   double block_s_ = 0, latency_ = 0;
   OutputStats stats_;
+  std::atomic<bool> audio_thread_known_{false};
+  std::atomic<pthread_t> audio_thread_{};
 };
 
 /// A readable list of `devs` for messages.

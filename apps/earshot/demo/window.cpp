@@ -6,9 +6,12 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <zlib.h>
 
+#include "keys.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <vector>
 #include <stdexcept>
 
 namespace earshot::demo {
@@ -27,7 +30,7 @@ V3 rotate(const std::array<float, 4>& q, const V3& v) {
 
 /// One 2D projection: screen x from axis `ax` (sign sx), screen y from axis `ay` (sign sy).
 void view(const char* title, int ax, float sx, int ay, float sy, const char* axes, const WindowModel& m) {
-  ImGui::BeginChild(title, ImVec2(0, 250), true);
+  ImGui::BeginChild(title, ImVec2(0, 240), true);
   ImGui::TextUnformatted(title);
   ImGui::SameLine();
   ImGui::TextDisabled("%s", axes);
@@ -58,11 +61,59 @@ void view(const char* title, int ax, float sx, int ay, float sy, const char* axe
   ImGui::EndChild();
 }
 
+/// The tracker's camera image (1024 x 768, +x right, +y down) with its dots:
+/// each a circle as big as the camera says (when it says), with the LED label.
+void camera_view(const WindowModel& m, float width) {
+  const float height = width * 0.75f;
+  ImDrawList* d = ImGui::GetWindowDrawList();
+  const ImVec2 p0 = ImGui::GetCursorScreenPos(), p1(p0.x + width, p0.y + height);
+  d->AddRectFilled(p0, p1, IM_COL32(20, 20, 28, 255));
+  d->AddRect(p0, p1, IM_COL32(110, 110, 130, 255));
+  const float k = width / 1024.0f;
+  for (float g = 1; g < 4; ++g) {  // quarter lines
+    d->AddLine(ImVec2(p0.x + g * 256 * k, p0.y), ImVec2(p0.x + g * 256 * k, p1.y), IM_COL32(45, 45, 58, 255));
+    d->AddLine(ImVec2(p0.x, p0.y + g * 192 * k), ImVec2(p1.x, p0.y + g * 192 * k), IM_COL32(45, 45, 58, 255));
+  }
+  static const ImU32 led_colour[4] = {IM_COL32(255, 90, 90, 255), IM_COL32(90, 220, 90, 255),
+                                      IM_COL32(90, 160, 255, 255), IM_COL32(240, 220, 80, 255)};
+  for (const auto& dot : m.dots) {
+    const ImVec2 c(p0.x + dot.x * k, p0.y + dot.y * k);
+    const float r = dot.size >= 0 ? 3.0f + 0.8f * float(dot.size) : 5.0f;
+    const ImU32 col = dot.label >= 0 && dot.label < 4 ? led_colour[dot.label] : IM_COL32(220, 220, 220, 255);
+    d->AddCircleFilled(c, r, col);
+    char text[32];
+    if (dot.label >= 0) std::snprintf(text, sizeof text, "LED %d", dot.label);
+    else std::snprintf(text, sizeof text, "?");
+    d->AddText(ImVec2(c.x + r + 3, c.y - 7), col, text);
+  }
+  if (m.dots.empty())
+    d->AddText(ImVec2(p0.x + 8, p0.y + height / 2 - 7), IM_COL32(150, 150, 160, 255), "no dots in view");
+  char size_text[48];
+  std::snprintf(size_text, sizeof size_text, "camera 1024 x 768, %zu dot%s", m.dots.size(), m.dots.size() == 1 ? "" : "s");
+  d->AddText(ImVec2(p0.x + 4, p0.y + 2), IM_COL32(150, 150, 160, 255), size_text);
+  ImGui::Dummy(ImVec2(width, height));
+}
+
+bool combo(const char* label, int* index, const std::vector<std::string>& items) {
+  std::vector<const char*> names;
+  names.reserve(items.size());
+  for (const auto& r : items) names.push_back(r.c_str());
+  return ImGui::Combo(label, index, names.data(), int(names.size()), 12);
+}
+
+ImVec4 state_colour(const std::string& state) {
+  if (state == "tracking") return ImVec4(0.45f, 0.95f, 0.45f, 1);
+  if (state == "connected" || state == "searching") return ImVec4(1.0f, 0.85f, 0.35f, 1);
+  if (state == "none") return ImVec4(0.7f, 0.7f, 0.7f, 1);
+  return ImVec4(1.0f, 0.45f, 0.35f, 1);  // lost, disconnected, failed
+}
+
 }  // namespace
 
 struct DemoWindow::Impl {
   GLFWwindow* window = nullptr;
-  int width = 1280, height = 860;
+  int width = 1280, height = 900;
+  std::array<char, 512> file{};
 };
 
 bool window_available() { return true; }
@@ -77,11 +128,18 @@ DemoWindow::DemoWindow(const std::string& title) : impl_(std::make_unique<Impl>(
     throw std::runtime_error("no display (no OpenGL 3 window)");
   }
   glfwMakeContextCurrent(impl_->window);
-  glfwSwapInterval(1);
+  glfwSwapInterval(1);  // vsync where there is one (not under Xvfb: the control loop paces frames)
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
   ImGui::GetIO().IniFilename = nullptr;
   ImGui::StyleColorsDark();
+  // Rendered in software (Mesa's llvmpipe under Xvfb), anti-aliased lines and
+  // fills are many more triangles to rasterise on the CPU the audio needs.
+  const auto* r = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  renderer_ = r ? r : "";
+  software_ = renderer_.find("llvmpipe") != std::string::npos || renderer_.find("softpipe") != std::string::npos ||
+              renderer_.find("swrast") != std::string::npos;
+  if (software_) ImGui::GetStyle().AntiAliasedLines = ImGui::GetStyle().AntiAliasedFill = false;
   ImGui_ImplGlfw_InitForOpenGL(impl_->window, true);
   ImGui_ImplOpenGL3_Init("#version 130");
 }
@@ -102,14 +160,28 @@ WindowActions DemoWindow::frame(WindowModel& m) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
-  if (ImGui::IsKeyPressed(GLFW_KEY_R)) a.recenter = true;
-  if (ImGui::IsKeyPressed(GLFW_KEY_Q) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) a.quit = true;
+  if (!ImGui::GetIO().WantTextInput) {  // keys.hpp; not while typing a file name
+    if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) a.recenter = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) a.next_scene = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_M, false)) a.next_room = true;
+    if (ImGui::IsKeyPressed(GLFW_KEY_Q, false) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) a.quit = true;
+  }
 
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImGui::GetIO().DisplaySize);
   ImGui::Begin("earshot demo", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove);
-  ImGui::Text("Scene %s   device %s (%.1f ms)   t %.1f s", m.scene.c_str(), m.device.c_str(), m.latency_ms,
-              m.time_s);
+  ImGui::Text("Scene %s   room %s   device %s (output latency %.1f ms)   t %.1f s", m.scene.c_str(),
+              m.room.c_str(), m.device.c_str(), m.latency_ms, m.time_s);
+  if (m.tracker_alarm) {  // no remote, disconnected: say it so nobody misses it
+    ImGui::PushStyleColor(ImGuiCol_ChildBg, ImVec4(0.45f, 0.12f, 0.08f, 1));
+    ImGui::BeginChild("banner", ImVec2(0, 58), true);
+    ImGui::SetWindowFontScale(1.4f);
+    ImGui::TextColored(ImVec4(1, 0.85f, 0.6f, 1), "Tracker %s: %s", m.tracker.c_str(), m.tracker_state.c_str());
+    ImGui::SetWindowFontScale(1.0f);
+    ImGui::TextWrapped("%s", m.tracker_message.c_str());
+    ImGui::EndChild();
+    ImGui::PopStyleColor();
+  }
   if (ImGui::BeginTable("views", 3)) {
     ImGui::TableNextColumn();
     view("Top", 0, 1, 2, -1, "(x right, -z up = ahead)", m);
@@ -119,39 +191,82 @@ WindowActions DemoWindow::frame(WindowModel& m) {
     view("Side", 2, -1, 1, 1, "(-z right = ahead, y up)", m);
     ImGui::EndTable();
   }
-  if (ImGui::BeginTable("lower", 2)) {
+  if (ImGui::BeginTable("lower", 3, ImGuiTableFlags_BordersInnerV)) {
+    ImGui::TableSetupColumn("tracker", ImGuiTableColumnFlags_WidthFixed, 300);
+    ImGui::TableSetupColumn("audio", ImGuiTableColumnFlags_WidthFixed, 330);
+    ImGui::TableSetupColumn("controls", ImGuiTableColumnFlags_WidthStretch);
+    // -- the tracker
     ImGui::TableNextColumn();
-    ImGui::Separator();
-    ImGui::TextUnformatted("Tracker and audio");
+    ImGui::TextUnformatted("Tracker");
+    ImGui::SameLine();
+    ImGui::TextColored(state_colour(m.tracker_state), "%s", m.tracker_state.c_str());
+    ImGui::SameLine();
+    ImGui::TextDisabled("(%s)", m.tracker.c_str());
     const V3 f = rotate(m.head_orientation, {0, 0, -1});
-    ImGui::Text("Tracker %s   head yaw %+.1f deg", m.tracker.c_str(),
+    ImGui::Text("%.0f frames/s   %llu frames   yaw %+.1f deg", double(m.tracker_rate), m.tracker_frames,
                 std::atan2(-f[0], -f[2]) * 180.0 / 3.14159265358979);
-    ImGui::Text("Audio load %.1f%% (max %.1f%%) of one core   xruns %llu   blocks %llu", 100 * m.load,
-                100 * m.load_max, m.xruns, m.blocks);
-    if (!m.message.empty()) ImGui::TextColored(ImVec4(1, 0.5f, 0.4f, 1), "%s", m.message.c_str());
+    camera_view(m, 288);
+    if (!m.tracker_message.empty() && !m.tracker_alarm) ImGui::TextWrapped("%s", m.tracker_message.c_str());
+    // -- audio, keys
+    ImGui::TableNextColumn();
+    ImGui::TextUnformatted("Audio");
+    ImGui::Text("load %.1f%% (max %.1f%%) of one core", 100 * m.load, 100 * m.load_max);
+    if (m.xruns > 0) ImGui::TextColored(ImVec4(1, 0.45f, 0.35f, 1), "xruns %llu", m.xruns);
+    else ImGui::Text("xruns 0");
+    ImGui::SameLine();
+    ImGui::Text("  blocks %llu", m.blocks);
     if (ImGui::Button("Recenter (R)")) a.recenter = true;
     ImGui::SameLine();
     if (ImGui::Button("Quit (Q / Esc)")) a.quit = true;
-    ImGui::TextDisabled("Keys: R recenter the head, Q or Esc quit");
-    ImGui::TextDisabled("Camera dots: not published by the plugin's C API yet");
-    ImGui::TableNextColumn();
     ImGui::Separator();
-    ImGui::TextUnformatted("Controls");
-    if (!m.rooms.empty()) {
-      std::vector<const char*> names;
-      for (const auto& r : m.rooms) names.push_back(r.c_str());
-      if (ImGui::Combo("Room", &m.room_index, names.data(), int(names.size()))) a.room_changed = true;
+    ImGui::TextUnformatted("Keys");
+    for (const auto& k : kKeys) ImGui::Text("  %-9s %s", k.keys, k.does);
+    if (!m.message.empty()) {
+      ImGui::Separator();
+      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.55f, 0.45f, 1));
+      ImGui::TextWrapped("%s", m.message.c_str());
+      ImGui::PopStyleColor();
     }
+    // -- controls
+    ImGui::TableNextColumn();
+    ImGui::PushItemWidth(200);
+    if (combo("Scene", &m.scene_index, m.scenes)) a.scene_changed = true;
+    ImGui::SameLine();
+    if (combo("Room", &m.room_index, m.rooms)) a.room_changed = true;
+    ImGui::InputTextWithHint("##file", "scene file (.json)", impl_->file.data(), impl_->file.size());
+    ImGui::SameLine();
+    if (ImGui::Button("Load file") && impl_->file[0]) {
+      a.load_file = true;
+      m.scene_file_input = impl_->file.data();
+    }
+    ImGui::PopItemWidth();
+    ImGui::BeginChild("sources", ImVec2(0, 0), false);
     for (std::size_t i = 0; i < m.sources.size(); ++i) {
       auto& s = m.sources[i];
-      ImGui::PushID(int(i));
-      ImGui::Text("%s  (%.1f, %.1f, %.1f) m%s", s.name.c_str(), s.position[0], s.position[1], s.position[2],
-                  s.path.empty() ? "" : ", on a path");
-      bool ch = ImGui::SliderFloat("gain dB", &s.gain_db, -40, 12);
-      ch |= ImGui::SliderFloat("rolloff", &s.rolloff, 0, 4);
-      if (ch) a.changed_sources.push_back(int(i));
+      const int id = int(i);
+      ImGui::PushID(id);
+      char header[160];
+      std::snprintf(header, sizeof header, "%s   (%.1f, %.1f, %.1f) m%s###src", s.name.c_str(), s.position[0],
+                    s.position[1], s.position[2], s.path.empty() ? "" : ", moving");
+      if (ImGui::CollapsingHeader(header, i < 2 ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
+        ImGui::PushItemWidth(170);
+        if (combo("sound", &s.sound, m.sounds)) a.changed_sounds.push_back(id);
+        ImGui::SameLine();
+        if (combo("path", &s.path_choice, m.paths)) a.changed_paths.push_back(id);
+        if (s.path.empty() && ImGui::DragFloat3("position m", s.position.data(), 0.05f, -50, 50, "%.2f"))
+          a.changed_positions.push_back(id);
+        bool ch = ImGui::SliderFloat("gain dB", &s.gain_db, -40, 12, "%.1f");
+        ImGui::SameLine();
+        ch |= combo("distance", &s.distance_model, m.distance_models);
+        ch |= ImGui::SliderFloat("rolloff", &s.rolloff, 0, 4, "%.2f");
+        ImGui::SameLine();
+        ch |= ImGui::SliderFloat("ref. m", &s.reference_distance, 0.1f, 10, "%.2f");
+        if (ch) a.changed_sources.push_back(id);
+        ImGui::PopItemWidth();
+      }
       ImGui::PopID();
     }
+    ImGui::EndChild();
     ImGui::EndTable();
   }
   ImGui::End();

@@ -1,8 +1,12 @@
 #pragma once
 // The demo's window (Dear ImGui over GLFW + OpenGL 3): top, front and side
 // views of the listener's head and the sources with their names and paths;
-// tracker state and rate; audio load and xruns; per-source gain and rolloff,
-// the room preset; a recenter button. Keys: R recenter, Q or Esc quit.
+// the tracker's camera (1024 x 768) with its dots and their LED labels, its
+// state, rate and message ("no remote" and "disconnected" in a banner); audio
+// load and xruns; pickers for the scene, the room and, per source, the sound,
+// the path or a fixed position, gain and distance attenuation; a recenter
+// button; the keys (keys.hpp). It only draws and reports what the person
+// did: the control loop (live_demo.cpp) applies it through the plugin's API.
 // Built only when Debian's libimgui-dev and libglfw3-dev are present.
 #include <array>
 #include <filesystem>
@@ -16,25 +20,42 @@ struct ViewSource {
   std::string name;
   std::array<float, 3> position{};
   std::vector<std::array<float, 3>> path;  ///< sampled path (empty: fixed)
-  float gain_db = 0, rolloff = 1;
+  float gain_db = 0, rolloff = 1, reference_distance = 1;
+  int distance_model = 2;  ///< index into WindowModel::distance_models
+  int sound = -1, path_choice = 0;  ///< indices into WindowModel::sounds / paths (0: fixed)
+};
+
+struct ViewDot {
+  float x = 0, y = 0;  ///< camera pixels
+  int size = -1, label = -1;
 };
 
 /// What the window shows, refreshed by the control loop each frame.
 struct WindowModel {
-  std::string scene, room, tracker, device, message;
+  std::string scene, room, device, message;
   std::array<float, 3> head_position{};
   std::array<float, 4> head_orientation{1, 0, 0, 0};  ///< w, x, y, z
   double time_s = 0, load = 0, load_max = 0, latency_ms = 0;
   unsigned long long xruns = 0, blocks = 0;
+  // the tracker (esGetTrackerState)
+  std::string tracker, tracker_state, tracker_message;
+  bool tracker_alarm = false;  ///< no remote / disconnected / failed: the banner
+  float tracker_rate = 0;
+  unsigned long long tracker_frames = 0;
+  std::vector<ViewDot> dots;
+  // controls
   std::vector<ViewSource> sources;
-  std::vector<std::string> rooms;
-  int room_index = 0;
+  std::vector<std::string> scenes, rooms, sounds, paths, distance_models;
+  int scene_index = 0, room_index = 0;
+  std::string scene_file_input;  ///< the "load a scene file" field
 };
 
 /// What the person did this frame.
 struct WindowActions {
-  bool quit = false, recenter = false, room_changed = false;
-  std::vector<int> changed_sources;  ///< indices whose gain or rolloff moved
+  bool quit = false, recenter = false, room_changed = false, scene_changed = false, next_scene = false,
+       next_room = false, load_file = false;
+  std::vector<int> changed_sources;  ///< gain or distance attenuation moved
+  std::vector<int> changed_sounds, changed_paths, changed_positions;
 };
 
 class DemoWindow {
@@ -50,11 +71,17 @@ class DemoWindow {
   /// Writes the last frame as a PNG.
   void screenshot(const std::filesystem::path& png) const;
   [[nodiscard]] long frames() const { return frames_; }
+  /// True when OpenGL is rendered in software (Mesa llvmpipe/softpipe, as
+  /// under Xvfb): the window then draws without anti-aliasing.
+  [[nodiscard]] bool software() const { return software_; }
+  [[nodiscard]] const std::string& renderer() const { return renderer_; }
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
   long frames_ = 0;
+  bool software_ = false;
+  std::string renderer_;
 };
 
 /// True when this build has the window.

@@ -8,15 +8,22 @@ exe=$1 png=$2
 command -v xvfb-run >/dev/null || { echo "SKIP: xvfb-run missing (apt-get install xvfb xauth)"; exit 77; }
 command -v jackd >/dev/null || { echo "SKIP: jackd missing (apt-get install jackd2)"; exit 77; }
 export JACK_NO_AUDIO_RESERVATION=1 JACK_DEFAULT_SERVER="earshot-gui-$$"
-jackd --no-realtime -n "$JACK_DEFAULT_SERVER" -d dummy -r 48000 -p 128 >"${png%.png}.jack.log" 2>&1 &
+# Real-time as JACK runs by default where allowed: a non-real-time server and
+# client next to a window drawn in software are late (docs/BENCHMARKS.md, Demo).
+rt=--no-realtime
+chrt -f 1 true 2>/dev/null && rt="-R -P 70"
+jackd $rt -n "$JACK_DEFAULT_SERVER" -d dummy -r 48000 -p 128 >"${png%.png}.jack.log" 2>&1 &
 jack=$!
 trap 'kill $jack 2>/dev/null || true' EXIT
 sleep 2
 rm -f "$png"
-out=$(LP_NUM_THREADS=1 xvfb-run -a -s "-screen 0 1280x900x24" "$exe" demo --device system --duration 5 \
+out=$(xvfb-run -a -s "-screen 0 1280x900x24" "$exe" demo --device system --duration 5 \
         --screenshot "$png" </dev/null 2>&1)
 echo "$out" | grep -v '^ALSA\|^Cannot\|JackShm\|jack server'
 frames=$(echo "$out" | sed -n 's/.*window: \([0-9]*\) frames drawn.*/\1/p')
-[ -n "$frames" ] && [ "$frames" -ge 30 ] || { echo "FAIL: the window drew ${frames:-no} frames"; exit 1; }
+# At most 15 frames/s in software, at nice 10: while compilers share the
+# cores the window draws few frames (the audio comes first), but it draws.
+[ -n "$frames" ] && [ "$frames" -ge 5 ] || { echo "FAIL: the window drew ${frames:-no} frames"; exit 1; }
 [ -s "$png" ] && head -c 8 "$png" | grep -q PNG || { echo "FAIL: no PNG screenshot at $png"; exit 1; }
-echo "OK: $frames frames, screenshot $png"
+echo "$out" | grep -q "tracker sim: tracking" || { echo "FAIL: the tracker's state is not reported"; exit 1; }
+echo "OK: $frames frames, screenshot $png, $(echo "$out" | sed -n 's/.*blocks, \([0-9]*\) xruns.*/\1/p') xruns"

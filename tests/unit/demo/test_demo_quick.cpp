@@ -44,7 +44,9 @@ TEST(DemoQuick, AnUnknownSceneIsNamedAndNothingCrashes) {
 TEST(DemoQuick, HelpListsTheKeys) {
   const auto r = run(std::string(EARSHOT_EXE) + " demo --help");
   EXPECT_EQ(r.status, 0);
-  EXPECT_NE(r.output.find("r recenter"), std::string::npos) << r.output;
+  // The keys of keys.hpp, which the window and the terminal print too.
+  for (const char* key : {"r recenter the head", "n next scene preset", "m next room preset", "q or Esc quit"})
+    EXPECT_NE(r.output.find(key), std::string::npos) << key << " missing from:\n" << r.output;
   EXPECT_NE(r.output.find("--buffer"), std::string::npos) << r.output;
 }
 

@@ -27,6 +27,7 @@
 #include "window.hpp"
 #endif
 #include "earshot/earshot.h"
+#include "earshot/audio/room_presets.hpp"
 #include "earshot/errors.hpp"
 #include "earshot/scenes/motion_path.hpp"
 #include "earshot/scenes/presets.hpp"
@@ -144,8 +145,13 @@ struct Library {
   }
 };
 
-const std::vector<std::string> kRooms{"none",       "living-room",  "small-room", "medium-room",
-                                      "large-room", "concert-hall", "cathedral",  "generic"};
+/// "none" and every room preset the plugin knows (esReverbPreset's names).
+std::vector<std::string> room_names() {
+  std::vector<std::string> r{"none"};
+  for (const auto& p : audio::room_presets()) r.emplace_back(p.name);
+  return r;
+}
+const std::vector<std::string> kRooms = room_names();
 const std::vector<std::string> kDistanceModels{"none", "inverse", "inverse clamped", "linear", "linear clamped",
                                                "exponent", "exponent clamped"};
 constexpr std::array<ESenum, 7> kDistanceEnums{ES_NONE,

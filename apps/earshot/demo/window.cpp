@@ -84,7 +84,9 @@ void camera_view(const WindowModel& m, float width) {
     char text[32];
     if (dot.label >= 0) std::snprintf(text, sizeof text, "LED %d", dot.label);
     else std::snprintf(text, sizeof text, "?");
-    d->AddText(ImVec2(c.x + r + 3, c.y - 7), col, text);
+    // Odd labels to the left, even to the right: the beacon's dots sit close together.
+    const float left = dot.label % 2 != 0 ? ImGui::CalcTextSize(text).x + 2 * r + 6 : 0.0f;
+    d->AddText(ImVec2(c.x + r + 3 - left, c.y - 7), col, text);
   }
   if (m.dots.empty())
     d->AddText(ImVec2(p0.x + 8, p0.y + height / 2 - 7), IM_COL32(150, 150, 160, 255), "no dots in view");

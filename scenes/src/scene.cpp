@@ -270,6 +270,7 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   }
   Fields f(j, origin, "");
   Scene s;
+  s.origin = std::string(origin);
   s.description = f.text("description", "");
   s.duration_s = f.number("duration_s", 5.0, 0.0, 3600.0);
   s.sample_rate = f.number("sample_rate", 48000.0, 8000.0, 192000.0);

@@ -108,3 +108,38 @@ TEST(SceneJson, DescriptionIsFreeText) {
   EXPECT_EQ(parse_error(R"({"description": 3, "sources": []})"),
             "s.json: field 'description': expected a string, got 3");
 }
+
+// render_scene goes through the plugin's C API; what the plugin refuses still
+// reaches the user as one InputError naming the file or field.
+TEST(SceneRender, PluginPathReportsBadInputByName) {
+  const fs::path dir = fs::temp_directory_path() / "earshot_scene_tests";
+  fs::create_directories(dir);
+  const Scene one = parse_scene(R"({"duration_s": 0.1, "sources": [{"signal": {"type": "noise"}}]})", "one.json");
+  auto error = [&](const Scene& s, RenderOptions o) -> std::string {
+    o.out = dir / "refused.wav";
+    try {
+      (void)render_scene(s, o);
+    } catch (const earshot::InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  RenderOptions o;
+  const fs::path not_sofa = dir / "not_a.sofa";
+  std::ofstream(not_sofa) << "{}";
+  o.hrtf = not_sofa;
+  EXPECT_NE(error(one, o).find(not_sofa.string() + ": not a SOFA file"), std::string::npos) << error(one, o);
+
+  RenderOptions slow;
+  slow.sample_rate = 4000;
+  EXPECT_NE(error(one, slow).find("--rate"), std::string::npos) << error(one, slow);
+
+  std::string many = R"({"duration_s": 0.1, "sources": [)";
+  for (int i = 0; i < 257; ++i) many += std::string(i ? "," : "") + R"({"signal": {"type": "sine"}})";
+  EXPECT_NE(error(parse_scene(many + "]}", "many.json"), {}).find("many.json: field 'sources': 257 sources"),
+            std::string::npos);
+
+  RenderOptions fine;
+  fine.out = dir / "fine.wav";
+  EXPECT_EQ(render_scene(one, fine).frames, 4800u);
+}

@@ -77,6 +77,7 @@ struct SceneListener {
 };
 
 struct Scene {
+  std::string origin;            ///< where it was read from (file name), for errors
   std::string description;       ///< what the scene is, its little story
   double duration_s = 5.0;
   double sample_rate = 48000.0;

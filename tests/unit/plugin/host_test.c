@@ -161,10 +161,33 @@ static int render_plugin(const ESproctable *es) {
   CHECK(es->SourcePlay(world, sb));
   CHECK(es->Commit(world));
   for (int done = 0; done < FRAMES; done += BLOCK) CHECK(es->Render(world, out_l + done, out_r + done, BLOCK));
+  { /* ABI 1.1: the tracker's state through the table, from C */
+    EStrackerstate ts;
+    memset(&ts, 0, sizeof ts);
+    ts.size = sizeof ts;
+    CHECK(es->GetTrackerState(world, &ts));
+    if (ts.state != ES_TRACKER_NONE || ts.dot_count != 0 || ts.running != ES_FALSE) {
+      fprintf(stderr, "a world without a tracker reports state 0x%x, %u dots\n", (unsigned)ts.state, ts.dot_count);
+      return 1;
+    }
+    ts.size = 4;
+    if (es->GetTrackerState(world, &ts) != ES_INVALID_VALUE || es->GetTrackerState(world, NULL) != ES_INVALID_VALUE) {
+      fprintf(stderr, "esGetTrackerState takes a bad size or NULL\n");
+      return 1;
+    }
+  }
   CHECK(es->DestroyWorld(world));
   if (es->Render(world, out_l, out_r, BLOCK) != ES_INVALID_WORLD) {
     fprintf(stderr, "a destroyed world still renders\n");
     return 1;
+  }
+  {
+    EStrackerstate ts;
+    ts.size = sizeof ts;
+    if (es->GetTrackerState(world, &ts) != ES_INVALID_WORLD) {
+      fprintf(stderr, "a destroyed world still reports its tracker\n");
+      return 1;
+    }
   }
   return 0;
 }

@@ -22,8 +22,9 @@ out=$(xvfb-run -a -s "-screen 0 1280x900x24" "$exe" demo --device system --durat
 echo "$out" | grep -v '^ALSA\|^Cannot\|JackShm\|jack server'
 frames=$(echo "$out" | sed -n 's/.*window: \([0-9]*\) frames drawn.*/\1/p')
 # At most 15 frames/s in software, at nice 10: while compilers share the
-# cores the window draws few frames (the audio comes first), but it draws.
-[ -n "$frames" ] && [ "$frames" -ge 5 ] || { echo "FAIL: the window drew ${frames:-no} frames"; exit 1; }
+# cores the window draws few frames (7 in 5 s at load average 8: the audio
+# comes first), but it draws.
+[ -n "$frames" ] && [ "$frames" -ge 2 ] || { echo "FAIL: the window drew ${frames:-no} frames"; exit 1; }
 [ -s "$png" ] && head -c 8 "$png" | grep -q PNG || { echo "FAIL: no PNG screenshot at $png"; exit 1; }
 echo "$out" | grep -q "tracker sim: tracking" || { echo "FAIL: the tracker's state is not reported"; exit 1; }
 echo "OK: $frames frames, screenshot $png, $(echo "$out" | sed -n 's/.*blocks, \([0-9]*\) xruns.*/\1/p') xruns"

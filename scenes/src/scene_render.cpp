@@ -119,6 +119,9 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   p.head_radius_m = static_cast<ESfloat>(scene.listener.head_radius_m.value_or(0.0));  // 0: measured ITD
   const std::string hrtf = opt.hrtf.string();
   p.hrtf_path = hrtf.empty() ? nullptr : hrtf.c_str();
+  // The generators outlive the world whose callbacks point into them.
+  std::vector<SignalSource> signals;
+  signals.reserve(scene.sources.size());  // no reallocation: the callbacks keep pointers
   const World world(p);
   const ESworld w = world.id();
   // Each block's changes land together, at that block.
@@ -130,8 +133,6 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
     world.check(esReverbi(w, ES_REVERB_ENABLED, ES_TRUE), origin, "room");
   }
 
-  std::vector<SignalSource> signals;
-  signals.reserve(scene.sources.size());  // the callbacks keep pointers into it
   std::vector<ESsource> ids;
   for (std::size_t i = 0; i < scene.sources.size(); ++i) {
     const SceneSource& s = scene.sources[i];

@@ -10,7 +10,8 @@ packages=(
   libcli11-dev           # command-line parser of the earshot tool
   nlohmann-json3-dev     # Model / Scene JSON
   libmysofa-dev libmysofa1   # SOFA HRTF files; ships the MIT KEMAR default set
-  libkissfft-dev         # FFT for partitioned convolution (BSD licence, fit for the plugin)
+  libavutil-dev          # FFmpeg's av_tx: the renderer's SIMD FFTs (LGPL, dynamically linked)
+  libkissfft-dev         # FFT for sizes av_tx has no fast code for (analysis), click-test analysis
   libsndfile1-dev        # WAV/FLAC/OGG reading and writing
   libsamplerate0-dev     # resampling scene audio files to the render rate
   libgtest-dev libgmock-dev  # unit tests

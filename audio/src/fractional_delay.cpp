@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 #include <numbers>
 
 namespace earshot::audio {
@@ -63,21 +64,69 @@ void FractionalDelay::reset() {
   delay_ = -1.0;
 }
 
+double FractionalDelay::clamp_delay(double delay_samples) const {
+  return std::clamp(std::isfinite(delay_samples) ? delay_samples : kMinDelay, kMinDelay, max_delay_);
+}
+
 void FractionalDelay::process(std::span<const float> in, std::span<float> out, double delay_samples) {
-  const double target = std::clamp(std::isfinite(delay_samples) ? delay_samples : kMinDelay, kMinDelay, max_delay_);
-  const double start = delay_ < 0.0 ? target : delay_;
-  const std::size_t n = in.size(), mask = size_ - 1;
-  const double step = (target - start) / static_cast<double>(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    ring_[write_] = in[i];
-    if (write_ < kTaps) ring_[size_ + write_] = in[i];  // the mirror keeps every read contiguous
-    const double d = start + step * static_cast<double>(i + 1);
-    auto whole = static_cast<std::size_t>(d);
-    auto phase = static_cast<std::size_t>(std::lround((d - static_cast<double>(whole)) * kPhases));
+  const double target = clamp_delay(delay_samples);
+  write(in);
+  read(out, delay_ < 0.0 ? target : delay_, target);
+  delay_ = target;
+}
+
+void FractionalDelay::write(std::span<const float> in) {
+  const std::size_t mask = size_ - 1;
+  for (const float x : in) {
+    ring_[write_] = x;
+    if (write_ < kTaps) ring_[size_ + write_] = x;  // the mirror keeps every read contiguous
+    write_ = (write_ + 1) & mask;
+  }
+}
+
+void FractionalDelay::read(std::span<float> out, double from, double to) const {
+  const double start = clamp_delay(from), target = clamp_delay(to);
+  const std::size_t n = out.size(), mask = size_ - 1;
+  const std::size_t block_start = (write_ + size_ - n) & mask;  // where out[0]'s input sample was written
+  // Oldest sample the kernel reads: kHalf samples before the integer delay.
+  auto first_read = [&](std::size_t i, std::size_t whole) {
+    return (block_start + i + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
+  };
+  auto split = [](double d, std::size_t& whole, std::size_t& phase) {
+    whole = static_cast<std::size_t>(d);
+    phase = static_cast<std::size_t>((d - static_cast<double>(whole)) * kPhases + 0.5);
     if (phase == kPhases) phase = 0, ++whole;
-    // Oldest sample the kernel reads: kHalf samples before the integer delay.
-    const std::size_t first = (write_ + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
-    const float* x = ring_.data() + first;
+  };
+  std::size_t whole = 0, phase = 0;
+  if (start == target) {
+    // A still delay: one kernel for the whole block, and while the ring
+    // does not wrap the samples are contiguous, so the loop runs across
+    // output samples, which vectorises.
+    split(target, whole, phase);
+    const std::size_t first = first_read(0, whole);
+    if (first + n + kTaps <= size_ + kTaps) {
+      const float* x = ring_.data() + first;
+      const float* k = kernels_ + phase * kTaps;
+      std::fill(out.begin(), out.end(), 0.0f);
+      for (std::size_t t = 0; t < kTaps; ++t) {
+        const float kt = k[t];
+        const float* xt = x + t;
+        for (std::size_t i = 0; i < n; ++i) out[i] += kt * xt[i];
+      }
+      return;
+    }
+  }
+  // A moving delay: the read position in 32.32 fixed point, so the whole
+  // and fractional parts come from shifts rather than float conversions.
+  constexpr double kOne = 4294967296.0;  // 2^32
+  const auto pos0 = static_cast<std::int64_t>(start * kOne);
+  const auto pos_step = static_cast<std::int64_t>((target - start) / static_cast<double>(n) * kOne);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t pos = pos0 + pos_step * static_cast<std::int64_t>(i + 1);
+    whole = static_cast<std::size_t>(pos >> 32);
+    phase = static_cast<std::size_t>(((pos & 0xFFFFFFFF) + (std::int64_t{1} << 21)) >> 22);  // rounded to 1/1024
+    if (phase == kPhases) phase = 0, ++whole;
+    const float* x = ring_.data() + first_read(i, whole);
     const float* k = kernels_ + phase * kTaps;
     // Lane-wise partial sums the compiler turns into SIMD, then a fixed
     // summation order: fast, and the same result on every run.
@@ -86,9 +135,7 @@ void FractionalDelay::process(std::span<const float> in, std::span<float> out, d
     for (std::size_t w = kTaps / 4; w > 0; w /= 2)
       for (std::size_t t = 0; t < w; ++t) lanes[t] += lanes[t + w];
     out[i] = lanes[0];
-    write_ = (write_ + 1) & mask;
   }
-  delay_ = target;
 }
 
 }  // namespace earshot::audio

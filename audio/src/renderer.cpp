@@ -1,5 +1,7 @@
 #include "earshot/audio/renderer.hpp"
 
+#include "earshot/audio/spectral_kernels.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -45,16 +47,15 @@ HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
 
 struct Renderer::Voice {
   Voice(std::size_t block, std::size_t filter_len, double max_delay, double rate)
-      : air(rate), conv(block, filter_len), delay_l(block, max_delay), delay_r(block, max_delay),
-        input(block, 0.0f), wet_l(block), wet_r(block), out_l(block), out_r(block) {}
+      : air(rate), conv(block, filter_len), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block) {}
   SourceState state;
   AirAbsorption air;
   BinauralConvolver conv;
-  FractionalDelay delay_l, delay_r;
-  std::vector<float> input, wet_l, wet_r, out_l, out_r;
+  FractionalDelay delay;  // the source's signal, read once per ear (propagation delay plus that ear's ITD)
+  std::vector<float> input;
+  AlignedVector<float> ear_l, ear_r;  // what each ear hears before its filter
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
-  std::array<double, 2> ear_gain{1.0, 1.0};       // brings each blended filter to its interpolated energy
-  std::array<double, 2> ear_gain_prev{-1.0, -1.0};  // last block's (< 0: none yet)
+  std::array<double, 2> ear_delay{-1.0, -1.0};  // previous block's delay per ear, samples (< 0: none yet)
   Vec3 filter_dir{0, 0, 0};  // head-frame direction of the filters in use (zero: none yet)
   std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
   double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
@@ -72,6 +73,7 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
   spectra_ = std::make_shared<const HrtfSpectra>(*hrtf_, cfg_.block);
+  bus_ = std::make_unique<BinauralBus>(cfg_.block);
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
     voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay, cfg_.sample_rate));
@@ -82,19 +84,18 @@ Renderer::~Renderer() = default;
 
 void Renderer::update_filters(Voice& v, const hrtf::Interpolation& in) {
   // A weighted sum of the measured spectra is the spectrum of the weighted
-  // sum of the filters; each ear is then scaled to its interpolated energy.
+  // sum of the filters; each ear is then scaled to its interpolated energy
+  // (in the filter itself, so the crossfade blends old and new exactly).
   const auto banks = v.conv.begin_filter_update();
   for (std::size_t ear = 0; ear < 2; ++ear) {
-    const std::span<std::complex<float>> bank = banks[ear];
-    std::fill(bank.begin(), bank.end(), std::complex<float>{});
-    for (std::size_t k = 0; k < 3; ++k) {
-      const auto w = static_cast<float>(in.blend.weight[k]);
-      if (w == 0.0f) continue;
-      const auto src = spectra_->spectrum(in.blend.index[k], static_cast<hrtf::Ear>(ear));
-      for (std::size_t i = 0; i < bank.size(); ++i) bank[i] += w * src[i];
-    }
-    const double e = spectra_->energy(bank);
-    v.ear_gain[ear] = e > 0.0 ? std::sqrt(in.energy[ear] / e) : 1.0;
+    const std::span<float> bank = banks[ear];
+    const auto e = static_cast<hrtf::Ear>(ear);
+    kernels::blend3(spectra_->spectrum(in.blend.index[0], e).data(), spectra_->spectrum(in.blend.index[1], e).data(),
+                    spectra_->spectrum(in.blend.index[2], e).data(), static_cast<float>(in.blend.weight[0]),
+                    static_cast<float>(in.blend.weight[1]), static_cast<float>(in.blend.weight[2]), bank.data(),
+                    bank.size());
+    const double energy = spectra_->energy(bank);
+    if (energy > 0.0) kernels::scale(bank.data(), static_cast<float>(std::sqrt(in.energy[ear] / energy)), bank.size());
   }
   v.conv.end_filter_update();
 }
@@ -104,16 +105,14 @@ int Renderer::add_source(const SourceState& s) {
   Voice& v = *voices_[active_];
   v.state = s;
   v.gain = -1.0;
-  v.ear_gain = {1.0, 1.0};
-  v.ear_gain_prev = {-1.0, -1.0};
+  v.ear_delay = {-1.0, -1.0};
   v.filter_dir = {0, 0, 0};
   v.triangle = hrtf::SphereTriangulation::kNoHint;
   v.azimuth = v.elevation = 1e9;
   v.moved_from.reset();
   v.air.reset();
   v.conv.reset();
-  v.delay_l.reset();
-  v.delay_r.reset();
+  v.delay.reset();
   return static_cast<int>(active_++);
 }
 
@@ -134,6 +133,7 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
   std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
   std::fill(ret_r_.begin(), ret_r_.end(), 0.0f);
   std::fill(send_.begin(), send_.end(), 0.0f);
+  bus_->clear();
 
   for (std::size_t s = 0; s < active_; ++s) {
     Voice& v = *voices_[s];
@@ -185,26 +185,26 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
 
     v.air.update(hr.distance, v.state.air_absorption);
     v.air.process(v.input);
-    v.conv.process(v.input, v.wet_l, v.wet_r);
-    v.delay_l.process(v.wet_l, v.out_l, FractionalDelay::kMinDelay + prop + d.left_s * cfg_.sample_rate);
-    v.delay_r.process(v.wet_r, v.out_r, FractionalDelay::kMinDelay + prop + d.right_s * cfg_.sample_rate);
-    const double step = (g - g0) / static_cast<double>(B);
+    // Each ear hears the source late by the propagation delay plus its own
+    // onset delay (the ITD); then its onset-free filter, in the bus.
+    v.delay.write(v.input);
+    const double base = FractionalDelay::kMinDelay + prop;
+    const std::array<double, 2> to{v.delay.clamp_delay(base + d.left_s * cfg_.sample_rate),
+                                   v.delay.clamp_delay(base + d.right_s * cfg_.sample_rate)};
+    v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
+    v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
+    v.ear_delay = to;
+    const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
     const auto send = static_cast<float>(v.state.reverb_send);
     for (std::size_t i = 0; i < B; ++i) {
-      const auto gi = static_cast<float>(g0 + step * static_cast<double>(i + 1));
+      const float gi = gain0 + gain_step * static_cast<float>(i + 1);
+      v.ear_l[i] *= gi;
+      v.ear_r[i] *= gi;
       send_[i] += send * gi * v.input[i];
     }
-    // Per ear: the source's gain times the filter's energy correction, both
-    // ramped across the block.
-    for (std::size_t ear = 0; ear < 2; ++ear) {
-      const double e1 = v.ear_gain[ear], e0 = v.ear_gain_prev[ear] < 0.0 ? e1 : v.ear_gain_prev[ear];
-      v.ear_gain_prev[ear] = e1;
-      const double a = g0 * e0, da = (g * e1 - a) / static_cast<double>(B);
-      float* mix = ear == 0 ? mix_l_.data() : mix_r_.data();
-      const float* out = ear == 0 ? v.out_l.data() : v.out_r.data();
-      for (std::size_t i = 0; i < B; ++i) mix[i] += static_cast<float>(a + da * static_cast<double>(i + 1)) * out[i];
-    }
+    v.conv.process(v.ear_l, v.ear_r, *bus_);
   }
+  bus_->mix_into(mix_l_, mix_r_);
 
   // Master gain, then a peak limiter: instant attack, ~50 ms release, and a
   // final clamp so nothing ever leaves beyond full scale; NaN becomes silence.

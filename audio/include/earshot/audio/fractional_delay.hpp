@@ -9,7 +9,9 @@
 // never low-passes one ear more than the other (a cubic Lagrange read did,
 // which shrank the rendered ILD by up to 0.4 dB). The kernel reaches eight
 // samples ahead: the delay is never less than kMinDelay samples (a fixed
-// latency callers add). Allocates at construction only.
+// latency callers add). A read whose delay does not move across the block
+// runs as one fixed FIR (vectorised across samples). Allocates at
+// construction only.
 #pragma once
 
 #include <span>
@@ -28,6 +30,14 @@ class FractionalDelay {
   /// Writes `in` and reads `out` (both block samples) at a delay moving to
   /// `delay_samples` (clamped to [kMinDelay, max]). The first call starts there.
   void process(std::span<const float> in, std::span<float> out, double delay_samples);
+
+  /// The same in two steps, for several reads of one signal (a source's two
+  /// ears): write() appends a block, read() reads that block (out.size()
+  /// samples, as many as were written) at a delay gliding from `from` to
+  /// `to` samples, each clamped to [kMinDelay, max]; a NaN reads kMinDelay.
+  void write(std::span<const float> in);
+  void read(std::span<float> out, double from, double to) const;
+  [[nodiscard]] double clamp_delay(double delay_samples) const;
   void reset();
   [[nodiscard]] double max_delay() const { return max_delay_; }
 

@@ -4,15 +4,26 @@
 // new direction is then a weighted sum of spectra: no FFT on the audio
 // thread when a source or the head moves. Built once per set and block size;
 // immutable afterwards, so renderers may share one.
+//
+// Layout (the convolver's and the bus's too): planar. Partition p takes
+// 2 * stride() floats from p * 2 * stride(): the real parts of its B + 1
+// bins, then their imaginary parts, each run padded with zeros to stride()
+// (B + 1 rounded up to a multiple of 8 floats), so every run is aligned for
+// SIMD and the multiply-adds need no shuffles.
 #pragma once
 
 #include <complex>
 #include <span>
 #include <vector>
 
+#include "earshot/audio/aligned_vector.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
 namespace earshot::audio {
+
+/// Bins per partition in the padded planar layout: B + 1 rounded up to a
+/// multiple of 8 floats (32 bytes). A partition is 2 * stride floats.
+[[nodiscard]] constexpr std::size_t partition_stride(std::size_t block) { return (block + 1 + 7) / 8 * 8; }
 
 class HrtfSpectra {
  public:
@@ -21,16 +32,17 @@ class HrtfSpectra {
   [[nodiscard]] std::size_t block() const { return block_; }
   [[nodiscard]] std::size_t partitions() const { return parts_; }
   [[nodiscard]] std::size_t bins() const { return block_ + 1; }
-  /// partitions() * bins() values: partition p's bins at [p * bins(), (p + 1) * bins()).
-  [[nodiscard]] std::span<const std::complex<float>> spectrum(std::size_t measurement, hrtf::Ear ear) const;
+  [[nodiscard]] std::size_t stride() const { return partition_stride(block_); }
+  /// partitions() * 2 * stride() floats in the planar layout above.
+  [[nodiscard]] std::span<const float> spectrum(std::size_t measurement, hrtf::Ear ear) const;
 
   /// Energy (sum of squared taps) of a filter given as such spectra
   /// (Parseval over the real FFT's half spectrum).
-  [[nodiscard]] double energy(std::span<const std::complex<float>> spectra) const;
+  [[nodiscard]] double energy(std::span<const float> spectra) const;
 
  private:
   std::size_t block_, parts_;
-  std::vector<std::complex<float>> data_;  // [measurement][ear][partition][bin]
+  AlignedVector<float> data_;  // [measurement][ear][partition][re, im][stride]
 };
 
 }  // namespace earshot::audio

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "earshot/audio/air_absorption.hpp"
+#include "earshot/audio/binaural_bus.hpp"
 #include "earshot/audio/binaural_convolver.hpp"
 #include "earshot/audio/cone.hpp"
 #include "earshot/audio/distance_model.hpp"
@@ -112,6 +113,7 @@ class Renderer {
   ListenerState listener_;
   std::vector<std::unique_ptr<Voice>> voices_;
   std::size_t active_ = 0;
+  std::unique_ptr<BinauralBus> bus_;  // every voice's ears summed in the frequency domain
   std::vector<float> send_, ret_l_, ret_r_, mix_l_, mix_r_;
   double limiter_gain_ = 1.0;
 };

@@ -1,0 +1,57 @@
+#include "earshot/audio/spectral_kernels.hpp"
+
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+#define EARSHOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define EARSHOT_CLONES
+#endif
+
+namespace earshot::audio::kernels {
+
+EARSHOT_CLONES void multiply_add(const float* __restrict x, const float* __restrict h, float* __restrict acc,
+                                 std::size_t S) {
+  const float *xr = x, *xi = x + S, *hr = h, *hi = h + S;
+  float *ar = acc, *ai = acc + S;
+  for (std::size_t k = 0; k < S; ++k) {
+    ar[k] += xr[k] * hr[k] - xi[k] * hi[k];
+    ai[k] += xr[k] * hi[k] + xi[k] * hr[k];
+  }
+}
+
+EARSHOT_CLONES void multiply_add2(const float* __restrict x, const float* __restrict a, const float* __restrict b,
+                                  float* __restrict acc_a, float* __restrict acc_b, std::size_t S) {
+  const float *xr = x, *xi = x + S;
+  for (std::size_t k = 0; k < S; ++k) {
+    acc_a[k] += xr[k] * a[k] - xi[k] * a[S + k];
+    acc_a[S + k] += xr[k] * a[S + k] + xi[k] * a[k];
+    acc_b[k] += xr[k] * b[k] - xi[k] * b[S + k];
+    acc_b[S + k] += xr[k] * b[S + k] + xi[k] * b[k];
+  }
+}
+
+EARSHOT_CLONES void blend3(const float* __restrict s0, const float* __restrict s1, const float* __restrict s2, float w0,
+                           float w1, float w2, float* __restrict out, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) out[k] = w0 * s0[k] + w1 * s1[k] + w2 * s2[k];
+}
+
+EARSHOT_CLONES void scale(float* __restrict x, float g, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) x[k] *= g;
+}
+
+void to_planar(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {
+  const float* __restrict f = reinterpret_cast<const float*>(in);
+  for (std::size_t k = 0; k < n; ++k) {
+    out[k] = f[2 * k];
+    out[S + k] = f[2 * k + 1];
+  }
+}
+
+void to_interleaved(const float* __restrict in, std::size_t S, std::complex<float>* out, std::size_t n) {
+  float* __restrict f = reinterpret_cast<float*>(out);
+  for (std::size_t k = 0; k < n; ++k) {
+    f[2 * k] = in[k];
+    f[2 * k + 1] = in[S + k];
+  }
+}
+
+}  // namespace earshot::audio::kernels

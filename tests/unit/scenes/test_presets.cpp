@@ -1,6 +1,7 @@
 // The shipped preset scenes: each parses, renders deterministically, and
 // does what its description claims, measured on the rendered output.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -26,7 +27,9 @@ namespace {
 const std::vector<std::string> kPresets = {"manual", "circles", "traffic", "zoo", "teleconference"};
 
 fs::path out_dir() {
-  const fs::path d = fs::temp_directory_path() / "earshot_preset_tests";
+  // Per process: two test runs at once (two build trees) must not overwrite
+  // each other's renders between the write and the byte comparison.
+  const fs::path d = fs::temp_directory_path() / ("earshot_preset_tests_" + std::to_string(::getpid()));
   fs::create_directories(d);
   return d;
 }

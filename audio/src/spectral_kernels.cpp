@@ -1,6 +1,9 @@
 #include "earshot/audio/spectral_kernels.hpp"
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+// Not in sanitizer builds: the clones are chosen by an ifunc resolver that
+// runs while the library is relocated, before a sanitizer's runtime is up
+// (TSan crashes there); those builds test the baseline code.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(EARSHOT_SANITIZED)
 #define EARSHOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
 #else
 #define EARSHOT_CLONES

@@ -26,19 +26,32 @@ void AirAbsorption::update(double distance_m, double factor) {
 void AirAbsorption::reset() {
   z1_ = z2_ = 0.0;
   gain_ = -1.0;
+  primed_ = false;
 }
 
 void AirAbsorption::process(std::span<float> block) {
+  if (block.empty()) return;
   const double start = gain_ < 0.0 ? target_ : gain_;
   gain_ = target_;
-  const bool bypass = start == 1.0 && target_ == 1.0;
+  if (start == 1.0 && target_ == 1.0) {  // no absorption: leave the block as it is
+    primed_ = false;
+    return;
+  }
+  if (!primed_) {
+    // Leaving the bypass (or starting): take the filter's steady state for
+    // the first sample held as DC, so the low band starts where it would
+    // have been rather than from zero (unity DC gain: low = x).
+    const double x0 = block[0];
+    z1_ = x0 * (1.0 - b0_);
+    z2_ = x0 * (b2_ - a2_);
+    primed_ = true;
+  }
   const double step = (target_ - start) / static_cast<double>(block.size());
   for (std::size_t i = 0; i < block.size(); ++i) {
     const double x = block[i];
-    const double low = b0_ * x + z1_;  // kept running in bypass, so a change starts smoothly
+    const double low = b0_ * x + z1_;
     z1_ = b1_ * x - a1_ * low + z2_;
     z2_ = b2_ * x - a2_ * low;
-    if (bypass) continue;
     const double g = start + step * static_cast<double>(i + 1);
     block[i] = static_cast<float>(low + g * (x - low));
   }

@@ -9,7 +9,9 @@
 namespace earshot::audio {
 
 HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
-    : block_(block), parts_(std::max<std::size_t>(1, (set.filter_length() + block - 1) / block)) {
+    : block_(block),
+      parts_(std::max<std::size_t>(1, block ? (set.filter_length() + block - 1) / block : 1)),
+      measurements_(set.measurement_count()) {
   if (block == 0) throw std::invalid_argument("HrtfSpectra: block must be > 0");
   const std::size_t per_ear = parts_ * 2 * stride();
   data_.assign(set.measurement_count() * 2 * per_ear, 0.0f);

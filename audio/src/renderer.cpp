@@ -1,7 +1,5 @@
 #include "earshot/audio/renderer.hpp"
 
-#include "earshot/audio/spectral_kernels.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -33,33 +31,57 @@ Quat quat_from_ypr(double yaw, double pitch, double roll) {
   return mul(mul(qy, qp), qr);
 }
 
-HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
+namespace {
+
+/// A point as the listener's head sees it: the unit vector towards it in
+/// SOFA's frame (x ahead, y left, z up; zero when it is at the head) and
+/// its distance. No trigonometry.
+struct HeadFrame {
+  hrtf::Dir direction{0, 0, 0};
+  double distance = 0.0;
+};
+
+HeadFrame head_frame(const Vec3& point, const ListenerState& l) {
   const Vec3 d{point[0] - l.position[0], point[1] - l.position[1], point[2] - l.position[2]};
   const Vec3 h = rotate_inverse(l.orientation, d);
   // Head frame (OpenAL): +x right, +y up, -z ahead. SOFA: x ahead, y left, z up.
   const double sx = -h[2], sy = -h[0], sz = h[1];
+  HeadFrame f;
+  f.distance = std::sqrt(sx * sx + sy * sy + sz * sz);
+  if (f.distance > 0.0) f.direction = {sx / f.distance, sy / f.distance, sz / f.distance};
+  return f;
+}
+
+}  // namespace
+
+HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
+  const HeadFrame f = head_frame(point, l);
   HeadRelative r;
-  r.distance = std::sqrt(sx * sx + sy * sy + sz * sz);
-  r.azimuth = std::atan2(sy, sx);
-  r.elevation = r.distance > 0.0 ? std::asin(std::clamp(sz / r.distance, -1.0, 1.0)) : 0.0;
+  r.distance = f.distance;
+  r.azimuth = f.distance > 0.0 ? std::atan2(f.direction[1], f.direction[0]) : 0.0;
+  r.elevation = std::asin(std::clamp(f.direction[2], -1.0, 1.0));
   return r;
 }
 
 struct Renderer::Voice {
-  Voice(std::size_t block, std::size_t filter_len, double max_delay, double rate)
-      : air(rate), conv(block, filter_len), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block) {}
+  Voice(std::size_t block, double max_delay, double rate)
+      : air(rate), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block) {}
   SourceState state;
   AirAbsorption air;
-  BinauralConvolver conv;
   FractionalDelay delay;  // the source's signal, read once per ear (propagation delay plus that ear's ITD)
   std::vector<float> input;
   AlignedVector<float> ear_l, ear_r;  // what each ear hears before its filter
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
   std::array<double, 2> ear_delay{-1.0, -1.0};  // previous block's delay per ear, samples (< 0: none yet)
-  Vec3 filter_dir{0, 0, 0};  // head-frame direction of the filters in use (zero: none yet)
   std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
-  double azimuth = 1e9, elevation = 1e9;  // direction of the filters in use
-  hrtf::Delays delays{};
+  hrtf::Dir direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
+  hrtf::Interpolation recipe{};           // measurements, weights and delays for that direction
+  // The previous block's panning into the bank: which measurements, and per
+  // ear the gain each got (blend weight x ear gain x distance gain); the next
+  // block ramps from there.
+  std::array<std::uint32_t, 3> pan_index{};
+  std::array<std::array<float, 3>, 2> pan_gain{};
+  bool panned = false;
   std::optional<Vec3> moved_from;  // the source's position in the previous block
 };
 
@@ -72,32 +94,46 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
   const double max_delay =
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
-  spectra_ = std::make_shared<const HrtfSpectra>(*hrtf_, cfg_.block);
-  bus_ = std::make_unique<BinauralBus>(cfg_.block);
+  bank_ = std::make_unique<DirectionBank>(std::make_shared<const HrtfSpectra>(*hrtf_, cfg_.block));
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
-    voices_.push_back(std::make_unique<Voice>(cfg_.block, hrtf_->filter_length(), max_delay, cfg_.sample_rate));
+    voices_.push_back(std::make_unique<Voice>(cfg_.block, max_delay, cfg_.sample_rate));
   for (auto* v : {&send_, &ret_l_, &ret_r_, &mix_l_, &mix_r_}) v->assign(cfg_.block, 0.0f);
 }
 
 Renderer::~Renderer() = default;
 
-void Renderer::update_filters(Voice& v, const hrtf::Interpolation& in) {
-  // A weighted sum of the measured spectra is the spectrum of the weighted
-  // sum of the filters; each ear is then scaled to its interpolated energy
-  // (in the filter itself, so the crossfade blends old and new exactly).
-  const auto banks = v.conv.begin_filter_update();
+void Renderer::pan(Voice& v, const hrtf::Interpolation& in, double gain) {
+  // Each ear's blended filter is sum_k w_k h_k scaled to the interpolated
+  // energy (ear_gain); the bank applies it as gains on the measurements.
+  std::array<std::array<float, 3>, 2> now{};
   for (std::size_t ear = 0; ear < 2; ++ear) {
-    const std::span<float> bank = banks[ear];
-    const auto e = static_cast<hrtf::Ear>(ear);
-    kernels::blend3(spectra_->spectrum(in.blend.index[0], e).data(), spectra_->spectrum(in.blend.index[1], e).data(),
-                    spectra_->spectrum(in.blend.index[2], e).data(), static_cast<float>(in.blend.weight[0]),
-                    static_cast<float>(in.blend.weight[1]), static_cast<float>(in.blend.weight[2]), bank.data(),
-                    bank.size());
-    const double energy = spectra_->energy(bank);
-    if (energy > 0.0) kernels::scale(bank.data(), static_cast<float>(std::sqrt(in.energy[ear] / energy)), bank.size());
+    const double g = in.ear_gain(ear) * gain;
+    for (std::size_t k = 0; k < 3; ++k) now[ear][k] = static_cast<float>(in.blend.weight[k] * g);
   }
-  v.conv.end_filter_update();
+  const std::array<std::uint32_t, 3>& idx = in.blend.index;
+  if (!v.panned) {  // the first block starts where it is, as the first filters did
+    v.pan_index = idx;
+    v.pan_gain = now;
+    v.panned = true;
+  }
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const std::span<const float> x = ear == 0 ? v.ear_l : v.ear_r;
+    // Measurements in this block's blend ramp from what they had (0 if new);
+    // those only in the last block's blend ramp down to 0.
+    for (std::size_t k = 0; k < 3; ++k) {
+      float from = 0.0f;
+      for (std::size_t j = 0; j < 3; ++j)
+        if (v.pan_index[j] == idx[k]) from = v.pan_gain[ear][j];
+      if (from != 0.0f || now[ear][k] != 0.0f) bank_->add(idx[k], ear, x, from, now[ear][k]);
+    }
+    for (std::size_t j = 0; j < 3; ++j) {
+      const bool kept = v.pan_index[j] == idx[0] || v.pan_index[j] == idx[1] || v.pan_index[j] == idx[2];
+      if (!kept && v.pan_gain[ear][j] != 0.0f) bank_->add(v.pan_index[j], ear, x, v.pan_gain[ear][j], 0.0f);
+    }
+  }
+  v.pan_index = idx;
+  v.pan_gain = now;
 }
 
 int Renderer::add_source(const SourceState& s) {
@@ -106,12 +142,11 @@ int Renderer::add_source(const SourceState& s) {
   v.state = s;
   v.gain = -1.0;
   v.ear_delay = {-1.0, -1.0};
-  v.filter_dir = {0, 0, 0};
   v.triangle = hrtf::SphereTriangulation::kNoHint;
-  v.azimuth = v.elevation = 1e9;
+  v.direction = {2, 2, 2};
+  v.panned = false;
   v.moved_from.reset();
   v.air.reset();
-  v.conv.reset();
   v.delay.reset();
   return static_cast<int>(active_++);
 }
@@ -133,32 +168,19 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
   std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
   std::fill(ret_r_.begin(), ret_r_.end(), 0.0f);
   std::fill(send_.begin(), send_.end(), 0.0f);
-  bus_->clear();
 
   for (std::size_t s = 0; s < active_; ++s) {
     Voice& v = *voices_[s];
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
-    const HeadRelative hr = head_relative(v.state.position, frame);
-    if (hr.azimuth != v.azimuth || hr.elevation != v.elevation) {
-      const hrtf::Interpolation in = hrtf_->interpolate(hr.azimuth, hr.elevation, v.triangle);
-      v.triangle = in.blend.triangle;
-      v.delays = in.delays;  // the ITD follows every move, through the delay lines
-      // New filters (and their crossfade) once the direction has moved by
-      // kFilterStep: below that the filters' change is far below what anyone
-      // hears, and a slowly moving source would otherwise pay for new
-      // spectra every block.
-      const Vec3 dir{std::cos(hr.elevation) * std::cos(hr.azimuth), std::cos(hr.elevation) * std::sin(hr.azimuth),
-                     std::sin(hr.elevation)};
-      const double cosine = dir[0] * v.filter_dir[0] + dir[1] * v.filter_dir[1] + dir[2] * v.filter_dir[2];
-      if (cosine < kFilterStepCosine) {
-        update_filters(v, in);
-        v.filter_dir = dir;
-      }
-      v.azimuth = hr.azimuth;
-      v.elevation = hr.elevation;
+    HeadFrame hr = head_frame(v.state.position, frame);
+    if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
+    if (hr.direction != v.direction) {
+      v.recipe = hrtf_->interpolate(hr.direction, v.triangle);
+      v.triangle = v.recipe.blend.triangle;
+      v.direction = hr.direction;
     }
-    const hrtf::Delays d = v.delays;
+    const hrtf::Delays d = v.recipe.delays;  // the ITD follows every move, through the delay lines
     // Propagation delay to the listener's ear now from where the source was
     // when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
     // the source's own motion changes the distance. Gliding the delay line
@@ -186,7 +208,7 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     v.air.update(hr.distance, v.state.air_absorption);
     v.air.process(v.input);
     // Each ear hears the source late by the propagation delay plus its own
-    // onset delay (the ITD); then its onset-free filter, in the bus.
+    // onset delay (the ITD); its onset-free filters are in the bank.
     v.delay.write(v.input);
     const double base = FractionalDelay::kMinDelay + prop;
     const std::array<double, 2> to{v.delay.clamp_delay(base + d.left_s * cfg_.sample_rate),
@@ -194,17 +216,14 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
     v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
     v.ear_delay = to;
-    const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
+    pan(v, v.recipe, g);
     const auto send = static_cast<float>(v.state.reverb_send);
-    for (std::size_t i = 0; i < B; ++i) {
-      const float gi = gain0 + gain_step * static_cast<float>(i + 1);
-      v.ear_l[i] *= gi;
-      v.ear_r[i] *= gi;
-      send_[i] += send * gi * v.input[i];
+    if (send != 0.0f) {
+      const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
+      for (std::size_t i = 0; i < B; ++i) send_[i] += send * (gain0 + gain_step * static_cast<float>(i + 1)) * v.input[i];
     }
-    v.conv.process(v.ear_l, v.ear_r, *bus_);
   }
-  bus_->mix_into(mix_l_, mix_r_);
+  bank_->process(mix_l_, mix_r_);
 
   // Master gain, then a peak limiter: instant attack, ~50 ms release, and a
   // final clamp so nothing ever leaves beyond full scale; NaN becomes silence.

@@ -21,24 +21,9 @@ EARSHOT_CLONES void multiply_add(const float* __restrict x, const float* __restr
   }
 }
 
-EARSHOT_CLONES void multiply_add2(const float* __restrict x, const float* __restrict a, const float* __restrict b,
-                                  float* __restrict acc_a, float* __restrict acc_b, std::size_t S) {
-  const float *xr = x, *xi = x + S;
-  for (std::size_t k = 0; k < S; ++k) {
-    acc_a[k] += xr[k] * a[k] - xi[k] * a[S + k];
-    acc_a[S + k] += xr[k] * a[S + k] + xi[k] * a[k];
-    acc_b[k] += xr[k] * b[k] - xi[k] * b[S + k];
-    acc_b[S + k] += xr[k] * b[S + k] + xi[k] * b[k];
-  }
-}
-
-EARSHOT_CLONES void blend3(const float* __restrict s0, const float* __restrict s1, const float* __restrict s2, float w0,
-                           float w1, float w2, float* __restrict out, std::size_t n) {
-  for (std::size_t k = 0; k < n; ++k) out[k] = w0 * s0[k] + w1 * s1[k] + w2 * s2[k];
-}
-
-EARSHOT_CLONES void scale(float* __restrict x, float g, std::size_t n) {
-  for (std::size_t k = 0; k < n; ++k) x[k] *= g;
+EARSHOT_CLONES void add_ramped(const float* __restrict x, float g0, float dg, const float* __restrict ramp,
+                               float* __restrict out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] += (g0 + dg * ramp[i]) * x[i];
 }
 
 void to_planar(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {
@@ -46,6 +31,15 @@ void to_planar(const std::complex<float>* in, std::size_t n, float* __restrict o
   for (std::size_t k = 0; k < n; ++k) {
     out[k] = f[2 * k];
     out[S + k] = f[2 * k + 1];
+  }
+}
+
+void to_planar_odd_negated(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {
+  const float* __restrict f = reinterpret_cast<const float*>(in);
+  for (std::size_t k = 0; k < n; ++k) {
+    const float sign = (k & 1) ? -1.0f : 1.0f;
+    out[k] = sign * f[2 * k];
+    out[S + k] = sign * f[2 * k + 1];
   }
 }
 

@@ -227,17 +227,37 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
       for (float v : set.filter(m, static_cast<Ear>(ear))) e += double(v) * v;
       set.energies_[m][ear] = std::max(e, 1e-30);  // log-safe for a silent ear
     }
+    set.log_energies_.push_back({std::log(set.energies_[m][0]), std::log(set.energies_[m][1])});
   }
   try {
     set.triangulation_ = std::make_shared<const SphereTriangulation>(unit);
   } catch (const std::invalid_argument& e) {
     bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
   }
+  const SphereTriangulation& tri = *set.triangulation_;
+  set.gram_.resize(tri.triangle_count());
+  for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
+    const auto v = tri.vertices(t);
+    constexpr std::array<std::array<int, 2>, 6> kPairs{{{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
+    for (std::size_t ear = 0; ear < 2; ++ear)
+      for (std::size_t k = 0; k < 6; ++k) {
+        const auto a = set.filter(v[kPairs[k][0]], static_cast<Ear>(ear));
+        const auto b = set.filter(v[kPairs[k][1]], static_cast<Ear>(ear));
+        double dot = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i) dot += double(a[i]) * b[i];
+        set.gram_[t][ear][k] = dot;
+      }
+  }
   return set;
 }
 
 Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32_t hint) const {
-  const Dir d{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
+  return interpolate(Dir{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+                         std::sin(elevation)},
+                     hint);
+}
+
+Interpolation HrtfSet::interpolate(const Dir& d, std::uint32_t hint) const {
   Interpolation out;
   out.blend = triangulation_->locate(d, hint);
   std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies
@@ -246,11 +266,18 @@ Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32
     const std::size_t m = out.blend.index[k];
     out.delays.left_s += w * delays_[m].left_s;
     out.delays.right_s += w * delays_[m].right_s;
-    log_energy[0] += w * std::log(energies_[m][0]);
-    log_energy[1] += w * std::log(energies_[m][1]);
+    log_energy[0] += w * log_energies_[m][0];
+    log_energy[1] += w * log_energies_[m][1];
   }
   out.energy = {std::exp(log_energy[0]), std::exp(log_energy[1])};
+  const std::array<double, 3>& w = out.blend.weight;
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const auto& g = gram_[out.blend.triangle][ear];  // w^T G w
+    out.blend_energy[ear] = w[0] * w[0] * g[0] + w[1] * w[1] * g[1] + w[2] * w[2] * g[2] +
+                            2.0 * (w[0] * w[1] * g[3] + w[0] * w[2] * g[4] + w[1] * w[2] * g[5]);
+  }
   if (parametric_radius_) {
+    const double azimuth = std::atan2(d[1], d[0]), elevation = std::asin(std::clamp(d[2], -1.0, 1.0));
     const double mid = 0.5 * (out.delays.left_s + out.delays.right_s);
     const double itd = woodworth_itd(azimuth, elevation, *parametric_radius_);
     out.delays = {mid - 0.5 * itd, mid + 0.5 * itd};

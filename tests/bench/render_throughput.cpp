@@ -9,7 +9,7 @@
 //
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
-//                     [--stop-below 0.2]
+//                     [--stop-below 0.2] [--only earshot|openal]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
@@ -115,10 +115,15 @@ double run_earshot(int n, const Budget& budget, const std::shared_ptr<const ears
       const auto k = std::size_t(i);
       s.position = path[k].position(t);
       r.set_source(ids[k], s);
+      // The next block of the source's loop, in runs up to the loop's end
+      // (as an engine streaming a buffer would copy it).
       const std::vector<float>& loop = loops[k % kLoops];
-      for (float& x : r.source_input(ids[k])) {
-        x = loop[read[k]];
-        read[k] = read[k] + 1 == loop.size() ? 0 : read[k] + 1;
+      const std::span<float> in = r.source_input(ids[k]);
+      for (std::size_t done = 0; done < in.size();) {
+        const std::size_t run = std::min(in.size() - done, loop.size() - read[k]);
+        std::copy_n(loop.begin() + static_cast<std::ptrdiff_t>(read[k]), run, in.begin() + static_cast<std::ptrdiff_t>(done));
+        done += run;
+        read[k] = (read[k] + run) % loop.size();
       }
     }
     r.render(left, right);
@@ -221,6 +226,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
+  std::string only = "both";
+  app.add_option("--only", only, "run one renderer (for a profiler)")->check(CLI::IsMember({"both", "earshot", "openal"}));
   CLI11_PARSE(app, argc, argv);
   std::sort(ns.begin(), ns.end());
   ns.erase(std::unique(ns.begin(), ns.end()), ns.end());
@@ -236,7 +243,8 @@ int main(int argc, char** argv) {
     std::string al_hrtf;
     std::vector<double> ear, oal;  // 0: not run
     for (int n : ns) {
-      const bool run_e = ear.empty() || ear.back() >= stop_below, run_o = oal.empty() || oal.back() >= stop_below;
+      const bool run_e = only != "openal" && (ear.empty() || ear.back() >= stop_below);
+      const bool run_o = only != "earshot" && (oal.empty() || oal.back() >= stop_below);
       double best_e = 0, best_o = 0;
       for (int k = 0; k < repeat; ++k) {  // interleaved, so slow drifts in load hit both
         if (run_e) best_e = std::max(best_e, run_earshot(n, budget, hrtf, loops));

@@ -1,8 +1,9 @@
 #include <gtest/gtest.h>
 
-#include <mutex>
-
+#include <array>
 #include <cmath>
+#include <memory>
+#include <mutex>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -10,8 +11,7 @@
 #include "alloc_counter.hpp"
 #include "earshot/audio/air_absorption.hpp"
 #include "earshot/audio/aligned_vector.hpp"
-#include "earshot/audio/binaural_bus.hpp"
-#include "earshot/audio/binaural_convolver.hpp"
+#include "earshot/audio/direction_bank.hpp"
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/audio/real_fft.hpp"
 
@@ -67,81 +67,91 @@ TEST(RealFft, MatchesTheDefinitionAlignedOrNot) {
 }
 
 namespace {
-/// Runs x (left ear) and x2 (right ear) through one convolver and a bus.
-void run(BinauralConvolver& conv, BinauralBus& bus, const std::vector<float>& xl, const std::vector<float>& xr,
-         std::vector<float>& yl, std::vector<float>& yr, std::size_t blk) {
-  const std::size_t B = conv.block();
-  bus.clear();
-  conv.process(std::span(xl).subspan(blk * B, B), std::span(xr).subspan(blk * B, B), bus);
-  bus.mix_into(std::span(yl).subspan(blk * B, B), std::span(yr).subspan(blk * B, B));
+const std::shared_ptr<const earshot::hrtf::HrtfSet>& kemar48() {
+  static const auto set = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(48000.0));
+  return set;
+}
+
+std::vector<float> filter_of(std::size_t m, std::size_t ear) {
+  const auto f = kemar48()->filter(m, static_cast<earshot::hrtf::Ear>(ear));
+  return {f.begin(), f.end()};
+}
+
+/// g(i): a gain ramped from g0 to g1 over block b of B samples, as add() ramps it.
+std::vector<float> ramped(const std::vector<float>& x, std::size_t B, const std::vector<std::array<float, 2>>& ramps) {
+  std::vector<float> y(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const auto [g0, g1] = ramps[i / B];
+    y[i] = (g0 + (g1 - g0) * (float(i % B) + 1.0f) / float(B)) * x[i];
+  }
+  return y;
 }
 }  // namespace
 
-TEST(BinauralConvolver, EqualsDirectConvolution) {
-  for (std::size_t block : {32u, 128u}) {
-    const auto hl = noise(558, 2), hr = noise(300, 3);  // lengths not multiples of the block
-    const auto xl = noise(block * 20, 4), xr = noise(block * 20, 14);  // each ear its own input
-    BinauralConvolver conv(block, 558);
-    BinauralBus bus(block);
-    conv.set_filters(hl, hr, bus.fft());
-    std::vector<float> yl(xl.size()), yr(xl.size());
-    for (std::size_t b = 0; b < 20; ++b) run(conv, bus, xl, xr, yl, yr, b);
-    const auto el = direct_convolution(xl, hl), er = direct_convolution(xr, hr);
-    for (std::size_t i = 0; i < xl.size(); ++i) {
-      ASSERT_NEAR(yl[i], el[i], 2e-4 * (1 + std::abs(el[i]))) << "block " << block << " sample " << i;
-      ASSERT_NEAR(yr[i], er[i], 2e-4 * (1 + std::abs(er[i])));
+TEST(DirectionBank, EqualsDirectConvolutionWithTheMeasuredFilters) {
+  // Two signals panned into two measurements (one only in the right ear),
+  // with steady and ramping gains: the output is the sum of the ramped
+  // signals convolved with the measured onset-free filters.
+  for (std::size_t B : {32u, 128u}) {
+    DirectionBank bank(std::make_shared<const HrtfSpectra>(*kemar48(), B));
+    const std::size_t blocks = 30, m1 = 100, m2 = 401;
+    const auto x1 = noise(B * blocks, 4), x2 = noise(B * blocks, 14);
+    std::vector<std::array<float, 2>> r1(blocks), r2(blocks);
+    for (std::size_t b = 0; b < blocks; ++b) {
+      r1[b] = {0.5f, 0.5f};
+      r2[b] = b < 10 ? std::array{0.0f, 0.0f} : b == 10 ? std::array{0.0f, 0.8f} : std::array{0.8f, 0.8f};
+    }
+    r1[20] = {0.5f, 0.1f};
+    for (std::size_t b = 21; b < blocks; ++b) r1[b] = {0.1f, 0.1f};
+    std::vector<float> yl(x1.size(), 0.0f), yr(x1.size(), 0.0f);
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const auto in1 = std::span(x1).subspan(b * B, B), in2 = std::span(x2).subspan(b * B, B);
+      bank.add(m1, 0, in1, r1[b][0], r1[b][1]);
+      bank.add(m1, 1, in1, r1[b][0], r1[b][1]);
+      if (r2[b][0] != 0.0f || r2[b][1] != 0.0f) bank.add(m2, 1, in2, r2[b][0], r2[b][1]);
+      bank.process(std::span(yl).subspan(b * B, B), std::span(yr).subspan(b * B, B));
+    }
+    const auto a = ramped(x1, B, r1), c = ramped(x2, B, r2);
+    const auto el = direct_convolution(a, filter_of(m1, 0));
+    const auto er1 = direct_convolution(a, filter_of(m1, 1)), er2 = direct_convolution(c, filter_of(m2, 1));
+    double peak = 0;
+    for (double v : el) peak = std::max(peak, std::abs(v));
+    for (std::size_t i = 0; i < x1.size(); ++i) {
+      ASSERT_NEAR(yl[i], el[i], 2e-5 * peak) << "block " << B << " sample " << i;
+      ASSERT_NEAR(yr[i], er1[i] + er2[i], 2e-5 * peak) << "block " << B << " sample " << i;
     }
   }
 }
 
-TEST(BinauralConvolver, FilterChangeCrossfadesOverOneBlock) {
+TEST(DirectionBank, ALaneStopsWithItsInputAndItsTailRingsOut) {
   const std::size_t B = 64;
-  const auto a = noise(200, 5), b = noise(200, 6), x = noise(B * 10, 7);
-  BinauralConvolver conv(B, 200);
-  BinauralBus bus(B);
-  conv.set_filters(a, a, bus.fft());
-  std::vector<float> yl(x.size()), yr(x.size());
-  for (std::size_t blk = 0; blk < 10; ++blk) {
-    if (blk == 5) conv.set_filters(b, b, bus.fft());
-    run(conv, bus, x, x, yl, yr, blk);
+  const auto spectra = std::make_shared<const HrtfSpectra>(*kemar48(), B);
+  DirectionBank bank(spectra);
+  const auto x = noise(B, 21);
+  std::vector<float> l(B), r(B);
+  bank.add(7, 0, x, 1.0f, 1.0f);
+  bank.process(l, r);
+  EXPECT_EQ(bank.lanes_run(), 1u);
+  // One more block for the input's second half of the overlap-save window,
+  // then the lane is idle while the tail (in the shared accumulators) plays
+  // out over the filter's partitions.
+  std::vector<std::size_t> runs;
+  std::size_t ringing = 0;
+  for (int blk = 0; blk < 20; ++blk) {
+    std::fill(l.begin(), l.end(), 0.0f);
+    bank.process(l, r);
+    runs.push_back(bank.lanes_run());
+    double e = 0;
+    for (float v : l) e += double(v) * v;
+    if (e > 0.0) ++ringing;
+    for (float v : r) ASSERT_EQ(v, 0.0f) << "the right ear had no input";
   }
-  const auto ya = direct_convolution(x, a), yb = direct_convolution(x, b);
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    double expect = ya[i];
-    if (i >= 5 * B && i < 6 * B) {
-      const double w = double(i - 5 * B + 1) / B;
-      expect = (1 - w) * ya[i] + w * yb[i];
-    } else if (i >= 6 * B) {
-      expect = yb[i];
-    }
-    ASSERT_NEAR(yl[i], expect, 2e-4 * (1 + std::abs(expect))) << "sample " << i;
-  }
-}
-
-TEST(BinauralBus, SumsSourcesSteadyAndCrossfading) {
-  // Two sources through one bus: the sum of their convolutions, also in the
-  // block where one of them crossfades to new filters and the other does not.
-  const std::size_t B = 32, blocks = 12;
-  const auto a = noise(90, 15), b = noise(70, 16), c = noise(90, 17);
-  const auto x1 = noise(B * blocks, 18), x2 = noise(B * blocks, 19);
-  BinauralBus bus(B);
-  BinauralConvolver one(B, 90), two(B, 90);
-  one.set_filters(a, b, bus.fft());
-  two.set_filters(b, a, bus.fft());
-  std::vector<float> yl(x1.size(), 0.0f), yr(x1.size(), 0.0f);
-  for (std::size_t blk = 0; blk < blocks; ++blk) {
-    if (blk == 6) one.set_filters(c, c, bus.fft());
-    bus.clear();
-    one.process(std::span(x1).subspan(blk * B, B), std::span(x1).subspan(blk * B, B), bus);
-    two.process(std::span(x2).subspan(blk * B, B), std::span(x2).subspan(blk * B, B), bus);
-    bus.mix_into(std::span(yl).subspan(blk * B, B), std::span(yr).subspan(blk * B, B));
-  }
-  const auto la = direct_convolution(x1, a), lc = direct_convolution(x1, c), lb2 = direct_convolution(x2, b);
-  for (std::size_t i = 0; i < x1.size(); ++i) {
-    double w = i < 6 * B ? 0.0 : i >= 7 * B ? 1.0 : double(i - 6 * B + 1) / B;
-    const double expect = (1 - w) * la[i] + w * lc[i] + lb2[i];
-    ASSERT_NEAR(yl[i], expect, 3e-4 * (1 + std::abs(expect))) << "sample " << i;
-  }
+  EXPECT_EQ(runs[0], 1u);
+  EXPECT_EQ(runs[1], 0u);
+  EXPECT_EQ(ringing, spectra->partitions());  // B + 558 - 1 samples span partitions() + 1 blocks
+  std::fill(l.begin(), l.end(), 1.0f);
+  bank.process(l, r);
+  for (float v : l) ASSERT_EQ(v, 1.0f);  // nothing left to add
 }
 
 TEST(FractionalDelay, IntegerDelayIsExact) {
@@ -205,23 +215,23 @@ TEST(FractionalDelay, FlatToSixteenKilohertzAtEveryFraction) {
 
 TEST(DspUnits, NoHeapAllocationPerBlock) {
   const std::size_t B = 128;
-  BinauralConvolver conv(B, 558);
-  BinauralBus bus(B);
+  DirectionBank bank(std::make_shared<const HrtfSpectra>(*kemar48(), B));
   FractionalDelay delay(B, 2000);
-  const auto h1 = noise(558, 9), h2 = noise(558, 10), x = noise(B, 11);
+  const auto x = noise(B, 11);
   std::vector<float> l(B), r(B), tl(B), tr(B);
-  conv.set_filters(h1, h1, bus.fft());
   earshot::testing::AllocationProbe probe;
   for (int blk = 0; blk < 200; ++blk) {
-    conv.set_filters(blk % 2 ? h1 : h2, blk % 2 ? h2 : h1, bus.fft());  // a moving source: new filters every block
     delay.write(x);
     delay.read(tl, 40.0 + 0.3 * blk, 40.3 + 0.3 * blk);
     delay.read(tr, 50.0, 50.0);
-    bus.clear();
-    conv.process(tl, tr, bus);
-    bus.mix_into(l, r);
+    // A moving source: new measurements every few blocks, lanes starting and retiring.
+    const auto m = static_cast<std::size_t>(blk / 3 % 600);
+    bank.add(m, 0, tl, 0.3f, 0.5f);
+    bank.add(m + 1, 1, tr, 0.5f, 0.3f);
+    bank.process(l, r);
   }
   EXPECT_EQ(probe.count(), 0u);
+  EXPECT_EQ(probe.lock_count(), 0u);
 }
 
 TEST(DspUnits, TheAllocationProbeSeesAllocations) {

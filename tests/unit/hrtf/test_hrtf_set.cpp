@@ -116,6 +116,31 @@ TEST(HrtfSet, LookupAtAMeasuredDirectionReturnsThatMeasurement) {
   }
 }
 
+TEST(HrtfSet, BlendEnergyAndEarGainMatchTheBlendedFilters) {
+  // interpolate() gives the energy of the plain weighted sum from each
+  // triangle's table of inner products; check it against summing the
+  // filters, and that the ear gain brings that sum to the interpolated energy.
+  const auto& s = kemar48();
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> az(-180, 180), el(-90, 90);
+  std::vector<double> sum(s.filter_length());
+  for (int k = 0; k < 300; ++k) {
+    const Interpolation in = s.interpolate(az(rng) * kDeg, el(rng) * kDeg);
+    for (std::size_t ear = 0; ear < 2; ++ear) {
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (std::size_t v = 0; v < 3; ++v) {
+        const auto f = s.filter(in.blend.index[v], static_cast<Ear>(ear));
+        for (std::size_t i = 0; i < f.size(); ++i) sum[i] += in.blend.weight[v] * f[i];
+      }
+      double e = 0;
+      for (double x : sum) e += x * x;
+      ASSERT_NEAR(in.blend_energy[ear], e, 1e-9 * e + 1e-15) << k;
+      const double g = in.ear_gain(ear);
+      EXPECT_NEAR(g * g * e, in.energy[ear], 1e-9 * in.energy[ear]) << k;
+    }
+  }
+}
+
 TEST(HrtfSet, CuesMoveSmoothlyBetweenMeasuredDirections) {
   // In 1-degree steps the interpolated delays and filter energies change by
   // no more than the measured data changes between neighbouring measurements

@@ -31,6 +31,7 @@ class AirAbsorption {
   double b0_, b1_, b2_, a1_, a2_;  // the low-pass biquad at kReferenceHz
   double z1_ = 0.0, z2_ = 0.0;     // its state (transposed direct form II)
   double gain_ = -1.0;    // high-band gain of the previous block (< 0: none yet)
+  bool primed_ = false;   // the state follows the signal (false while bypassed)
   double target_ = 1.0;
 };
 

@@ -1,11 +1,10 @@
 // Every measured HRTF filter of a set, pre-transformed into the partitioned
-// spectra the BinauralConvolver multiplies by (block B: partitions of B taps,
-// each zero-padded to 2B and transformed). Blending three measurements for a
-// new direction is then a weighted sum of spectra: no FFT on the audio
-// thread when a source or the head moves. Built once per set and block size;
-// immutable afterwards, so renderers may share one.
+// spectra that the DirectionBank's convolvers multiply by (block B:
+// partitions of B taps, each zero-padded to 2B and transformed): no FFT of a
+// filter on the audio thread. Built once per set and block size; immutable
+// afterwards, so renderers may share one.
 //
-// Layout (the convolver's and the bus's too): planar. Partition p takes
+// Layout (the bank's histories and accumulators too): planar. Partition p takes
 // 2 * stride() floats from p * 2 * stride(): the real parts of its B + 1
 // bins, then their imaginary parts, each run padded with zeros to stride()
 // (B + 1 rounded up to a multiple of 8 floats), so every run is aligned for
@@ -31,6 +30,7 @@ class HrtfSpectra {
 
   [[nodiscard]] std::size_t block() const { return block_; }
   [[nodiscard]] std::size_t partitions() const { return parts_; }
+  [[nodiscard]] std::size_t measurements() const { return measurements_; }
   [[nodiscard]] std::size_t bins() const { return block_ + 1; }
   [[nodiscard]] std::size_t stride() const { return partition_stride(block_); }
   /// partitions() * 2 * stride() floats in the planar layout above.
@@ -41,7 +41,7 @@ class HrtfSpectra {
   [[nodiscard]] double energy(std::span<const float> spectra) const;
 
  private:
-  std::size_t block_, parts_;
+  std::size_t block_, parts_, measurements_;
   AlignedVector<float> data_;  // [measurement][ear][partition][re, im][stride]
 };
 

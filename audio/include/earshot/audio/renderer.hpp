@@ -1,10 +1,14 @@
 // The block renderer: sources around one listener, to a stereo (binaural)
 // block. Per source and block, with the listener's pose read once:
-//   direction and distance relative to the head -> HRTF lookup (filters,
-//   ITD) -> partitioned convolution, crossfaded when the filter changes ->
-//   per-ear fractional delay (ITD + propagation delay: a moving source's
-//   changing delay is its Doppler shift) -> distance gain -> mix. Air
-//   absorption (a distance-dependent high shelf) filters the source first.
+//   direction and distance relative to the head -> HRTF interpolation (three
+//   measurements, their weights, the ITD) -> per-ear fractional delay (ITD +
+//   propagation delay: a moving source's changing delay is its Doppler
+//   shift) -> each ear panned, with the distance gain, into the three
+//   measured directions' convolvers of a DirectionBank, the weights ramping
+//   across the block when the source or the head moves (a per-sample
+//   crossfade of the blended filter). Air absorption (a distance-dependent
+//   high shelf) filters the source first. The bank then convolves each
+//   direction in use once for every source in it.
 // Each source also feeds a mono reverb send bus (the reverb is separate).
 // The mix goes through the master gain and a peak limiter, so the output
 // never exceeds full scale and never holds NaN or infinity.
@@ -23,9 +27,8 @@
 #include <vector>
 
 #include "earshot/audio/air_absorption.hpp"
-#include "earshot/audio/binaural_bus.hpp"
-#include "earshot/audio/binaural_convolver.hpp"
 #include "earshot/audio/cone.hpp"
+#include "earshot/audio/direction_bank.hpp"
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
@@ -103,17 +106,14 @@ class Renderer {
 
  private:
   struct Voice;
-  void update_filters(Voice& v, const hrtf::Interpolation& in);
-  /// cos(0.25 deg): how far a source's direction moves before new filters.
-  static constexpr double kFilterStepCosine = 0.99999048;
+  void pan(Voice& v, const hrtf::Interpolation& in, double gain);
 
   std::shared_ptr<const hrtf::HrtfSet> hrtf_;
-  std::shared_ptr<const HrtfSpectra> spectra_;
   RendererConfig cfg_;
   ListenerState listener_;
   std::vector<std::unique_ptr<Voice>> voices_;
   std::size_t active_ = 0;
-  std::unique_ptr<BinauralBus> bus_;  // every voice's ears summed in the frequency domain
+  std::unique_ptr<DirectionBank> bank_;  // the measured directions' convolvers, shared by every voice
   std::vector<float> send_, ret_l_, ret_r_, mix_l_, mix_r_;
   double limiter_gain_ = 1.0;
 };

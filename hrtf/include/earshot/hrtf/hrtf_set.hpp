@@ -28,6 +28,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -57,6 +58,13 @@ struct Interpolation {
   Blend blend;
   Delays delays;
   std::array<double, 2> energy{1.0, 1.0};  ///< [left, right], sum of squared taps
+  /// [left, right] energy of the plain weighted sum of the three filters.
+  std::array<double, 2> blend_energy{1.0, 1.0};
+  /// The gain that brings an ear's weighted sum to `energy`: scale the
+  /// weights by it and the blend needs no second pass.
+  [[nodiscard]] double ear_gain(std::size_t ear) const {
+    return blend_energy[ear] > 0.0 ? std::sqrt(energy[ear] / blend_energy[ear]) : 1.0;
+  }
 };
 
 /// Head radii of the thesis's listener sizes.
@@ -102,6 +110,10 @@ class HrtfSet {
   /// `hint`: the previous call's blend.triangle for the same source.
   [[nodiscard]] Interpolation interpolate(double azimuth, double elevation,
                                           std::uint32_t hint = SphereTriangulation::kNoHint) const;
+  /// The same for a unit vector in SOFA's frame (x ahead, y left, z up):
+  /// no trigonometry unless the ITD is parametric.
+  [[nodiscard]] Interpolation interpolate(const Dir& direction,
+                                          std::uint32_t hint = SphereTriangulation::kNoHint) const;
 
   /// With a head radius, lookup returns Woodworth delays (both ears around
   /// a common centre) instead of the measured ones; nullopt restores them.
@@ -117,6 +129,10 @@ class HrtfSet {
   std::vector<float> hrirs_;    // [measurement][ear][sample], as measured
   std::vector<Delays> delays_;
   std::vector<std::array<double, 2>> energies_;  // [measurement][ear] of the filters
+  std::vector<std::array<double, 2>> log_energies_;  // their logarithms, blended per direction
+  // [triangle][ear][00, 11, 22, 01, 02, 12]: inner products of the triangle's
+  // three filters, so a blend's energy costs nine multiplies, not a pass.
+  std::vector<std::array<std::array<double, 6>, 2>> gram_;
   double removed_delay_s_ = 0.0;
   std::shared_ptr<const SphereTriangulation> triangulation_;
   std::optional<double> parametric_radius_;

@@ -33,6 +33,8 @@ class SphereTriangulation {
   static constexpr std::uint32_t kNoHint = 0xffffffffu;
 
   [[nodiscard]] std::size_t triangle_count() const { return tris_.size(); }
+  /// The measurement indices of triangle t, in the order locate() gives them.
+  [[nodiscard]] std::array<std::uint32_t, 3> vertices(std::size_t t) const { return tris_[t].v; }
 
  private:
   struct Triangle {

@@ -1,0 +1,111 @@
+#include "earshot/audio/direction_bank.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "earshot/audio/spectral_kernels.hpp"
+
+namespace earshot::audio {
+namespace {
+
+/// 2B floats rounded up to whole 64-byte lines, so every lane's input starts
+/// aligned (the FFT's fast path).
+std::size_t input_stride(std::size_t block) { return (2 * block + 15) / 16 * 16; }
+
+}  // namespace
+
+DirectionBank::DirectionBank(std::shared_ptr<const HrtfSpectra> spectra)
+    : spectra_(std::move(spectra)),
+      block_(spectra_ ? spectra_->block() : 0),
+      parts_(spectra_ ? spectra_->partitions() : 0),
+      stride_(partition_stride(block_)),
+      measurements_(spectra_ ? spectra_->measurements() : 0),
+      fft_(2 * std::max<std::size_t>(block_, 1)) {
+  if (!spectra_) throw std::invalid_argument("DirectionBank: no HRTF spectra");
+  const std::size_t lanes = 2 * measurements_, P = 2 * stride_;
+  lanes_.assign(lanes, Lane{});
+  input_.assign(lanes * input_stride(block_), 0.0f);
+  active_.reserve(lanes);
+  ahead_.assign(parts_ * 2 * P, 0.0f);
+  ahead_used_.assign(parts_ * 2, 0);
+  spectrum_.assign(stride_, {});
+  planar_.assign(P, 0.0f);
+  time_.assign(2 * block_, 0.0f);
+  ramp_.resize(block_);
+  for (std::size_t i = 0; i < block_; ++i) ramp_[i] = (static_cast<float>(i) + 1.0f) / static_cast<float>(block_);
+}
+
+void DirectionBank::add(std::size_t m, std::size_t ear, std::span<const float> x, float g0, float g1) {
+  if (m >= measurements_ || ear > 1 || x.size() < block_) return;
+  const std::size_t l = lane_index(m, ear);
+  Lane& lane = lanes_[l];
+  if (!lane.listed) {
+    lane.listed = true;
+    active_.push_back(static_cast<std::uint32_t>(l));
+  }
+  lane.has_input = true;
+  float* in = input_.data() + l * input_stride(block_) + half_ * block_;
+  kernels::add_ramped(x.data(), g0, g1 - g0, ramp_.data(), in, block_);
+}
+
+void DirectionBank::process(std::span<float> left, std::span<float> right) {
+  const std::size_t B = block_, bins = B + 1, P = 2 * stride_, in_stride = input_stride(B);
+  lanes_run_ = 0;
+  std::size_t kept = 0;
+  for (const std::uint32_t l : active_) {
+    Lane& lane = lanes_[l];
+    float* in = input_.data() + l * in_stride;
+    // Listed lanes have input this block or the last: the window is not silence.
+    fft_.forward(std::span<const float>(in, 2 * B), std::span(spectrum_).first(bins));
+    float* x = planar_.data();
+    if (half_ == 1)
+      kernels::to_planar(spectrum_.data(), bins, x, stride_);
+    else  // the window is [this | previous]: rotated by B, which flips the sign of odd bins
+      kernels::to_planar_odd_negated(spectrum_.data(), bins, x, stride_);
+    const std::size_t ear = l & 1;
+    const float* h = spectra_->spectrum(l >> 1, static_cast<hrtf::Ear>(ear)).data();
+    for (std::size_t p = 0; p < parts_; ++p) {
+      // Partition p's product belongs to the output p blocks ahead.
+      const std::size_t slot = (head_ + p) % parts_;
+      kernels::multiply_add(x, h + p * P, ahead_.data() + (slot * 2 + ear) * P, stride_);
+      ahead_used_[slot * 2 + ear] = 1;
+    }
+    ++lanes_run_;
+    // This block's half becomes the previous block; the next block adds
+    // into the other half, which must start at zero.
+    if (lane.prev_input) std::fill_n(in + (1 - half_) * B, B, 0.0f);
+    lane.prev_input = lane.has_input;
+    lane.has_input = false;
+    if (lane.prev_input)
+      active_[kept++] = l;  // its last block still enters the next FFT
+    else
+      lane.listed = false;
+  }
+  active_.resize(kept);
+
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const std::size_t a = head_ * 2 + ear;
+    if (!ahead_used_[a]) continue;
+    float* acc = ahead_.data() + a * P;
+    kernels::to_interleaved(acc, stride_, spectrum_.data(), bins);
+    std::fill_n(acc, P, 0.0f);  // free for the block parts_ ahead
+    ahead_used_[a] = 0;
+    fft_.inverse_destroying(std::span(spectrum_).first(bins), time_);
+    float* out = ear == 0 ? left.data() : right.data();
+    const float* y = time_.data() + B;  // overlap-save: the last B samples are the block
+    for (std::size_t i = 0; i < B; ++i) out[i] += y[i];
+  }
+  head_ = (head_ + 1) % parts_;
+  half_ = 1 - half_;
+}
+
+void DirectionBank::reset() {
+  std::fill(lanes_.begin(), lanes_.end(), Lane{});
+  std::fill(input_.begin(), input_.end(), 0.0f);
+  std::fill(ahead_.begin(), ahead_.end(), 0.0f);
+  std::fill(ahead_used_.begin(), ahead_used_.end(), 0);
+  active_.clear();
+  half_ = 1;
+}
+
+}  // namespace earshot::audio

@@ -37,24 +37,4 @@ std::span<const float> HrtfSpectra::spectrum(std::size_t m, hrtf::Ear ear) const
   return {data_.data() + (2 * m + static_cast<std::size_t>(ear)) * per_ear, per_ear};
 }
 
-double HrtfSpectra::energy(std::span<const float> spectra) const {
-  // sum x^2 = (|X_0|^2 + |X_N/2|^2 + 2 sum_{0<k<N/2} |X_k|^2) / N, N = 2B, per partition.
-  const std::size_t n = bins(), S = stride();
-  double e = 0.0;
-  for (std::size_t p = 0; p < parts_; ++p) {
-    const float* re = spectra.data() + p * 2 * S;
-    const float* im = re + S;
-    // Eight float lanes (vectorised), summed in a fixed order; the padding is zero.
-    float lanes[8] = {};
-    for (std::size_t k = 0; k < S; k += 8)
-      for (std::size_t j = 0; j < 8; ++j) lanes[j] += re[k + j] * re[k + j] + im[k + j] * im[k + j];
-    double all = 0.0;
-    for (float l : lanes) all += l;
-    const double ends = double(re[0]) * re[0] + double(im[0]) * im[0] + double(re[n - 1]) * re[n - 1] +
-                        double(im[n - 1]) * im[n - 1];
-    e += 2.0 * all - ends;  // the inner bins count twice, DC and Nyquist once
-  }
-  return e / static_cast<double>(2 * block_);
-}
-
 }  // namespace earshot::audio

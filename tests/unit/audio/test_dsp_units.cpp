@@ -262,6 +262,28 @@ double air_gain_db(earshot::audio::AirAbsorption& air, double hz) {
 }
 }  // namespace
 
+TEST(AirAbsorption, LeavingTheBypassDoesNotClick) {
+  // Factor 0 skips the filter; when absorption starts, the filter starts
+  // from the steady state of the signal rather than from zero. Compare with
+  // a filter that ran all along (a factor too small to hear, so no bypass).
+  using earshot::audio::AirAbsorption;
+  AirAbsorption skipped(48000.0), running(48000.0);
+  const std::size_t B = 64;
+  std::vector<float> x(B * 40);
+  for (std::size_t i = 0; i < x.size(); ++i) x[i] = static_cast<float>(0.8 * std::sin(2 * std::numbers::pi * 300.0 * double(i) / 48000.0 + 1.0));
+  std::vector<float> a = x, b = x;
+  for (std::size_t blk = 0; blk < 40; ++blk) {
+    skipped.update(50.0, blk < 20 ? 0.0 : 1.0);
+    running.update(50.0, blk < 20 ? 1e-9 : 1.0);
+    skipped.process(std::span(a).subspan(blk * B, B));
+    running.process(std::span(b).subspan(blk * B, B));
+  }
+  for (std::size_t i = 0; i < 20 * B; ++i) ASSERT_EQ(a[i], x[i]) << "factor 0 must leave the signal untouched";
+  double worst = 0;
+  for (std::size_t i = 20 * B; i < x.size(); ++i) worst = std::max(worst, double(std::abs(a[i] - b[i])));
+  EXPECT_LT(worst, 1e-3);  // started from zero state instead: 3.5e-3
+}
+
 TEST(AirAbsorption, HighsFallWithDistanceAsOpenAlSays) {
   using earshot::audio::AirAbsorption;
   AirAbsorption air(48000.0);

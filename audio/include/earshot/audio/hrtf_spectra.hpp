@@ -36,10 +36,6 @@ class HrtfSpectra {
   /// partitions() * 2 * stride() floats in the planar layout above.
   [[nodiscard]] std::span<const float> spectrum(std::size_t measurement, hrtf::Ear ear) const;
 
-  /// Energy (sum of squared taps) of a filter given as such spectra
-  /// (Parseval over the real FFT's half spectrum).
-  [[nodiscard]] double energy(std::span<const float> spectra) const;
-
  private:
   std::size_t block_, parts_, measurements_;
   AlignedVector<float> data_;  // [measurement][ear][partition][re, im][stride]

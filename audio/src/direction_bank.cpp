@@ -63,11 +63,15 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
     else  // the window is [this | previous]: rotated by B, which flips the sign of odd bins
       kernels::to_planar_odd_negated(spectrum_.data(), bins, x, stride_);
     const std::size_t ear = l & 1;
-    const float* h = spectra_->spectrum(l >> 1, static_cast<hrtf::Ear>(ear)).data();
-    for (std::size_t p = 0; p < parts_; ++p) {
-      // Partition p's product belongs to the output p blocks ahead.
-      const std::size_t slot = (head_ + p) % parts_;
-      kernels::multiply_add(x, h + p * P, ahead_.data() + (slot * 2 + ear) * P, stride_);
+    const auto e = static_cast<hrtf::Ear>(ear);
+    const float* head = spectra_->head(l >> 1, e).data();
+    const std::uint16_t* tail = spectra_->tail(l >> 1, e).data();
+    // Partition p's product belongs to the output p blocks ahead.
+    kernels::multiply_add(x, head, ahead_.data() + (now_ * 2 + ear) * P, stride_);
+    ahead_used_[now_ * 2 + ear] = 1;
+    for (std::size_t p = 1; p < parts_; ++p) {
+      const std::size_t slot = (now_ + p) % parts_;
+      kernels::multiply_add_half(x, tail + (p - 1) * P, ahead_.data() + (slot * 2 + ear) * P, stride_);
       ahead_used_[slot * 2 + ear] = 1;
     }
     ++lanes_run_;
@@ -84,7 +88,7 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
   active_.resize(kept);
 
   for (std::size_t ear = 0; ear < 2; ++ear) {
-    const std::size_t a = head_ * 2 + ear;
+    const std::size_t a = now_ * 2 + ear;
     if (!ahead_used_[a]) continue;
     float* acc = ahead_.data() + a * P;
     kernels::to_interleaved(acc, stride_, spectrum_.data(), bins);
@@ -95,7 +99,7 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
     const float* y = time_.data() + B;  // overlap-save: the last B samples are the block
     for (std::size_t i = 0; i < B; ++i) out[i] += y[i];
   }
-  head_ = (head_ + 1) % parts_;
+  now_ = (now_ + 1) % parts_;
   half_ = 1 - half_;
 }
 

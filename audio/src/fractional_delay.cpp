@@ -180,6 +180,10 @@ void FractionalDelay::write(std::span<const float> in) {
     done += run;
     write_ = (write_ + run) & (size_ - 1);
   }
+  // The next block's samples go where the ring was last written size_
+  // samples ago, long out of cache: ask for those lines now, so the next
+  // write does not wait on memory.
+  for (std::size_t i = 0; i < in.size(); i += 16) __builtin_prefetch(ring_.data() + ((write_ + i) & (size_ - 1)), 1, 1);
 }
 
 void FractionalDelay::read(std::span<float> out, double from, double to) const {

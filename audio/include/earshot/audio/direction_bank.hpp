@@ -77,7 +77,7 @@ class DirectionBank {
   std::vector<std::uint32_t> active_;  // lanes with input this block or the last, in first-use order
   AlignedVector<float> ahead_;         // [slot][ear][planar]: output spectra of the blocks ahead
   std::vector<char> ahead_used_;       // [slot][ear]: anything added
-  std::size_t head_ = 0;               // the slot of the current block
+  std::size_t now_ = 0;               // the slot of the current block
   std::size_t lanes_run_ = 0;
   AlignedVector<std::complex<float>> spectrum_;  // one FFT's output
   AlignedVector<float> planar_;                  // ... in the planar layout

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <complex>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -33,12 +34,21 @@ class HrtfSpectra {
   [[nodiscard]] std::size_t measurements() const { return measurements_; }
   [[nodiscard]] std::size_t bins() const { return block_ + 1; }
   [[nodiscard]] std::size_t stride() const { return partition_stride(block_); }
-  /// partitions() * 2 * stride() floats in the planar layout above.
-  [[nodiscard]] std::span<const float> spectrum(std::size_t measurement, hrtf::Ear ear) const;
+  /// The first partition (2 * stride() floats, planar as above): the head
+  /// of the response, with nearly all of its energy, kept in float.
+  [[nodiscard]] std::span<const float> head(std::size_t measurement, hrtf::Ear ear) const;
+  /// Partitions 1 .. partitions() - 1, (partitions() - 1) * 2 * stride()
+  /// values, as IEEE half floats (half_float.hpp). The bank streams every
+  /// spectrum each block, so fewer bytes is speed; the tail is 25 dB or more
+  /// below the head (MIT KEMAR), so the halves' rounding (-66 dB of each
+  /// value, a little of it leaking past the partition as overlap-save
+  /// aliasing) stays far below anything audible.
+  [[nodiscard]] std::span<const std::uint16_t> tail(std::size_t measurement, hrtf::Ear ear) const;
 
  private:
   std::size_t block_, parts_, measurements_;
-  AlignedVector<float> data_;  // [measurement][ear][partition][re, im][stride]
+  AlignedVector<float> head_;          // [measurement][ear][re, im][stride]
+  AlignedVector<std::uint16_t> tail_;  // [measurement][ear][partition - 1][re, im][stride], half floats
 };
 
 }  // namespace earshot::audio

@@ -7,11 +7,16 @@
 
 #include <complex>
 #include <cstddef>
+#include <cstdint>
 
 namespace earshot::audio::kernels {
 
 /// acc += x * h over one partition of S bins.
 void multiply_add(const float* x, const float* h, float* acc, std::size_t S);
+
+/// The same with h in IEEE half precision (half_float.hpp), widened as it
+/// is read (F16C where the CPU has it, checked once at load).
+void multiply_add_half(const float* x, const std::uint16_t* h, float* acc, std::size_t S);
 
 /// out += (g0 + dg * ramp[i]) * x[i] over n samples (a gain ramp; n need
 /// not be a multiple of 8).

@@ -31,11 +31,15 @@ DirectionBank::DirectionBank(std::shared_ptr<const HrtfSpectra> spectra)
   spectrum_.assign(stride_, {});
   planar_.assign(P, 0.0f);
   time_.assign(2 * block_, 0.0f);
-  ramp_.resize(block_);
-  for (std::size_t i = 0; i < block_; ++i) ramp_[i] = (static_cast<float>(i) + 1.0f) / static_cast<float>(block_);
+  r_.resize(block_);
+  r2_.resize(block_);
+  for (std::size_t i = 0; i < block_; ++i) {
+    r_[i] = (static_cast<float>(i) + 1.0f) / static_cast<float>(block_);
+    r2_[i] = r_[i] * r_[i];
+  }
 }
 
-void DirectionBank::add(std::size_t m, std::size_t ear, std::span<const float> x, float g0, float g1) {
+void DirectionBank::add(std::size_t m, std::size_t ear, std::span<const float> x, GainCurve gain) {
   if (m >= measurements_ || ear > 1 || x.size() < block_) return;
   const std::size_t l = lane_index(m, ear);
   Lane& lane = lanes_[l];
@@ -45,7 +49,7 @@ void DirectionBank::add(std::size_t m, std::size_t ear, std::span<const float> x
   }
   lane.has_input = true;
   float* in = input_.data() + l * input_stride(block_) + half_ * block_;
-  kernels::add_ramped(x.data(), g0, g1 - g0, ramp_.data(), in, block_);
+  kernels::add_shaped(x.data(), gain.c0, gain.c1, gain.c2, r_.data(), r2_.data(), in, block_);
 }
 
 void DirectionBank::process(std::span<float> left, std::span<float> right) {

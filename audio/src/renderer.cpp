@@ -76,11 +76,15 @@ struct Renderer::Voice {
   std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
   hrtf::Dir direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
   hrtf::Interpolation recipe{};           // measurements, weights and delays for that direction
-  // The previous block's panning into the bank: which measurements, and per
-  // ear the gain each got (blend weight x ear gain x distance gain); the next
-  // block ramps from there.
-  std::array<std::uint32_t, 3> pan_index{};
-  std::array<std::array<float, 3>, 2> pan_gain{};
+  // The panning into the bank at the end of the last two blocks: which
+  // measurements, and per ear the gain each got (blend weight x ear gain x
+  // distance gain). This block's gains follow a quadratic B-spline through
+  // them and the new ones (see pan()).
+  struct Pan {
+    std::array<std::uint32_t, 3> index{};
+    std::array<std::array<float, 3>, 2> gain{};
+  };
+  std::array<Pan, 2> pans{};  // [0]: two blocks ago, [1]: last block
   bool panned = false;
   std::optional<Vec3> moved_from;  // the source's position in the previous block
 };
@@ -106,34 +110,43 @@ Renderer::~Renderer() = default;
 void Renderer::pan(Voice& v, const hrtf::Interpolation& in, double gain) {
   // Each ear's blended filter is sum_k w_k h_k scaled to the interpolated
   // energy (ear_gain); the bank applies it as gains on the measurements.
-  std::array<std::array<float, 3>, 2> now{};
+  Voice::Pan now;
+  now.index = in.blend.index;
   for (std::size_t ear = 0; ear < 2; ++ear) {
     const double g = in.ear_gain(ear) * gain;
-    for (std::size_t k = 0; k < 3; ++k) now[ear][k] = static_cast<float>(in.blend.weight[k] * g);
+    for (std::size_t k = 0; k < 3; ++k) now.gain[ear][k] = static_cast<float>(in.blend.weight[k] * g);
   }
-  const std::array<std::uint32_t, 3>& idx = in.blend.index;
-  if (!v.panned) {  // the first block starts where it is, as the first filters did
-    v.pan_index = idx;
-    v.pan_gain = now;
+  if (!v.panned) {  // the first block starts where it is
+    v.pans = {now, now};
     v.panned = true;
   }
+  // A measurement's gain across the block is the block-long moving average
+  // of the piecewise-linear path through its gains at the last three block
+  // ends a, b, c: the quadratic B-spline a(1-r)^2/2 + b(1+2r-2r^2)/2 + c r^2/2,
+  // r = 0..1 across the block. Its slope never jumps, so the corners where a
+  // direction crosses into another triangle of measurements (and the
+  // block-rate corners of a ramp) do not spread sidebands that the HRTF's
+  // 2-4 kHz boost would lift; it lags the linear ramp by half a block.
+  const std::array<const Voice::Pan*, 3> path{&v.pans[0], &v.pans[1], &now};
+  std::array<std::uint32_t, 9> seen{};
+  std::size_t n_seen = 0;
+  for (const Voice::Pan* p : path)
+    for (const std::uint32_t m : p->index)
+      if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(n_seen), m) ==
+          seen.begin() + static_cast<std::ptrdiff_t>(n_seen))
+        seen[n_seen++] = m;
   for (std::size_t ear = 0; ear < 2; ++ear) {
     const std::span<const float> x = ear == 0 ? v.ear_l : v.ear_r;
-    // Measurements in this block's blend ramp from what they had (0 if new);
-    // those only in the last block's blend ramp down to 0.
-    for (std::size_t k = 0; k < 3; ++k) {
-      float from = 0.0f;
-      for (std::size_t j = 0; j < 3; ++j)
-        if (v.pan_index[j] == idx[k]) from = v.pan_gain[ear][j];
-      if (from != 0.0f || now[ear][k] != 0.0f) bank_->add(idx[k], ear, x, from, now[ear][k]);
-    }
-    for (std::size_t j = 0; j < 3; ++j) {
-      const bool kept = v.pan_index[j] == idx[0] || v.pan_index[j] == idx[1] || v.pan_index[j] == idx[2];
-      if (!kept && v.pan_gain[ear][j] != 0.0f) bank_->add(v.pan_index[j], ear, x, v.pan_gain[ear][j], 0.0f);
+    for (std::size_t j = 0; j < n_seen; ++j) {
+      std::array<float, 3> g{};  // a, b, c
+      for (std::size_t t = 0; t < 3; ++t)
+        for (std::size_t k = 0; k < 3; ++k)
+          if (path[t]->index[k] == seen[j]) g[t] = path[t]->gain[ear][k];
+      if (g[0] == 0.0f && g[1] == 0.0f && g[2] == 0.0f) continue;
+      bank_->add(seen[j], ear, x, {0.5f * (g[0] + g[1]), g[1] - g[0], 0.5f * (g[0] - 2.0f * g[1] + g[2])});
     }
   }
-  v.pan_index = idx;
-  v.pan_gain = now;
+  v.pans = {v.pans[1], now};
 }
 
 int Renderer::add_source(const SourceState& s) {

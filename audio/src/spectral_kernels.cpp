@@ -70,9 +70,9 @@ void multiply_add_half(const float* __restrict x, const std::uint16_t* __restric
   }
 }
 
-EARSHOT_CLONES void add_ramped(const float* __restrict x, float g0, float dg, const float* __restrict ramp,
-                               float* __restrict out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out[i] += (g0 + dg * ramp[i]) * x[i];
+EARSHOT_CLONES void add_shaped(const float* __restrict x, float c0, float c1, float c2, const float* __restrict r,
+                               const float* __restrict r2, float* __restrict out, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) out[i] += (c0 + c1 * r[i] + c2 * r2[i]) * x[i];
 }
 
 void to_planar(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {

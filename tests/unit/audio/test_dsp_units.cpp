@@ -80,12 +80,13 @@ std::vector<float> filter_of(std::size_t m, std::size_t ear) {
   return {f.begin(), f.end()};
 }
 
-/// g(i): a gain ramped from g0 to g1 over block b of B samples, as add() ramps it.
-std::vector<float> ramped(const std::vector<float>& x, std::size_t B, const std::vector<std::array<float, 2>>& ramps) {
+/// x with block b's gain curve applied, as add() applies it (computed independently).
+std::vector<float> shaped(const std::vector<float>& x, std::size_t B, const std::vector<DirectionBank::GainCurve>& g) {
   std::vector<float> y(x.size());
   for (std::size_t i = 0; i < x.size(); ++i) {
-    const auto [g0, g1] = ramps[i / B];
-    y[i] = (g0 + (g1 - g0) * (float(i % B) + 1.0f) / float(B)) * x[i];
+    const DirectionBank::GainCurve c = g[i / B];
+    const double r = (double(i % B) + 1.0) / double(B);
+    y[i] = static_cast<float>((c.c0 + c.c1 * r + c.c2 * r * r) * x[i]);
   }
   return y;
 }
@@ -99,22 +100,21 @@ TEST(DirectionBank, EqualsDirectConvolutionWithTheMeasuredFilters) {
     DirectionBank bank(std::make_shared<const HrtfSpectra>(*kemar48(), B));
     const std::size_t blocks = 30, m1 = 100, m2 = 401;
     const auto x1 = noise(B * blocks, 4), x2 = noise(B * blocks, 14);
-    std::vector<std::array<float, 2>> r1(blocks), r2(blocks);
-    for (std::size_t b = 0; b < blocks; ++b) {
-      r1[b] = {0.5f, 0.5f};
-      r2[b] = b < 10 ? std::array{0.0f, 0.0f} : b == 10 ? std::array{0.0f, 0.8f} : std::array{0.8f, 0.8f};
-    }
-    r1[20] = {0.5f, 0.1f};
-    for (std::size_t b = 21; b < blocks; ++b) r1[b] = {0.1f, 0.1f};
+    using Curve = DirectionBank::GainCurve;
+    std::vector<Curve> r1(blocks, Curve::ramp(0.5f, 0.5f)), r2(blocks);
+    for (std::size_t b = 10; b < blocks; ++b) r2[b] = b == 10 ? Curve::ramp(0.0f, 0.8f) : Curve::ramp(0.8f, 0.8f);
+    r1[20] = Curve::ramp(0.5f, 0.1f);
+    r1[21] = {0.1f, 0.3f, -0.25f};  // a quadratic curve, ending at 0.15
+    for (std::size_t b = 22; b < blocks; ++b) r1[b] = Curve::ramp(0.15f, 0.15f);
     std::vector<float> yl(x1.size(), 0.0f), yr(x1.size(), 0.0f);
     for (std::size_t b = 0; b < blocks; ++b) {
       const auto in1 = std::span(x1).subspan(b * B, B), in2 = std::span(x2).subspan(b * B, B);
-      bank.add(m1, 0, in1, r1[b][0], r1[b][1]);
-      bank.add(m1, 1, in1, r1[b][0], r1[b][1]);
-      if (r2[b][0] != 0.0f || r2[b][1] != 0.0f) bank.add(m2, 1, in2, r2[b][0], r2[b][1]);
+      bank.add(m1, 0, in1, r1[b]);
+      bank.add(m1, 1, in1, r1[b]);
+      if (b >= 10) bank.add(m2, 1, in2, r2[b]);
       bank.process(std::span(yl).subspan(b * B, B), std::span(yr).subspan(b * B, B));
     }
-    const auto a = ramped(x1, B, r1), c = ramped(x2, B, r2);
+    const auto a = shaped(x1, B, r1), c = shaped(x2, B, r2);
     const auto el = direct_convolution(a, filter_of(m1, 0));
     const auto er1 = direct_convolution(a, filter_of(m1, 1)), er2 = direct_convolution(c, filter_of(m2, 1));
     // The filters' tails are kept as half floats (HrtfSpectra), so this is
@@ -137,7 +137,7 @@ TEST(DirectionBank, ALaneStopsWithItsInputAndItsTailRingsOut) {
   DirectionBank bank(spectra);
   const auto x = noise(B, 21);
   std::vector<float> l(B), r(B);
-  bank.add(7, 0, x, 1.0f, 1.0f);
+  bank.add(7, 0, x, DirectionBank::GainCurve::ramp(1.0f, 1.0f));
   bank.process(l, r);
   EXPECT_EQ(bank.lanes_run(), 1u);
   // One more block for the input's second half of the overlap-save window,
@@ -197,7 +197,9 @@ TEST(HalfFloat, FloatsRoundToTheNearestHalfTiesToEven) {
       if (std::isnan(nf) || std::isinf(nf) || (n & 0x7fff) == 0x7fff) continue;
       const double nerr = std::abs(double(nf) - f);
       ASSERT_LE(err, nerr) << f;
-      if (err == nerr) ASSERT_EQ(h & 1, 0) << f;
+      if (err == nerr) {
+        ASSERT_EQ(h & 1, 0) << f;
+      }
     }
   }
   EXPECT_EQ(float_to_half(1.0f + std::ldexp(1.0f, -11)), 0x3c00);  // a tie: to the even 1.0
@@ -292,8 +294,8 @@ TEST(DspUnits, NoHeapAllocationPerBlock) {
     delay.read(tr, 50.0, 50.0);
     // A moving source: new measurements every few blocks, lanes starting and retiring.
     const auto m = static_cast<std::size_t>(blk / 3 % 600);
-    bank.add(m, 0, tl, 0.3f, 0.5f);
-    bank.add(m + 1, 1, tr, 0.5f, 0.3f);
+    bank.add(m, 0, tl, DirectionBank::GainCurve::ramp(0.3f, 0.5f));
+    bank.add(m + 1, 1, tr, DirectionBank::GainCurve::ramp(0.5f, 0.3f));
     bank.process(l, r);
   }
   EXPECT_EQ(probe.count(), 0u);

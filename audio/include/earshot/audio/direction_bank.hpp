@@ -45,10 +45,17 @@ class DirectionBank {
   [[nodiscard]] std::size_t block() const { return block_; }
   [[nodiscard]] std::size_t measurements() const { return measurements_; }
 
+  /// A gain across one block: sample i gets c0 + c1 r + c2 r^2 with
+  /// r = (i + 1) / block() (so r = 1 is the block's last sample).
+  struct GainCurve {
+    float c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+    /// From g0 (before the block) to g1 (its last sample), linearly.
+    [[nodiscard]] static GainCurve ramp(float g0, float g1) { return {g0, g1 - g0, 0.0f}; }
+  };
+
   /// Adds x (block() samples) into measurement m's ear (0 left, 1 right),
-  /// scaled by a gain that ramps linearly from g0 (before the block) to g1
-  /// (its last sample): sample i gets g0 + (g1 - g0) (i + 1) / block().
-  void add(std::size_t m, std::size_t ear, std::span<const float> x, float g0, float g1);
+  /// scaled by `gain`.
+  void add(std::size_t m, std::size_t ear, std::span<const float> x, GainCurve gain);
 
   /// Convolves every lane with input or a ringing tail and adds the block's
   /// binaural output into left and right (block() samples each).
@@ -82,7 +89,7 @@ class DirectionBank {
   AlignedVector<std::complex<float>> spectrum_;  // one FFT's output
   AlignedVector<float> planar_;                  // ... in the planar layout
   AlignedVector<float> time_;                    // 2B, an inverse FFT's output
-  AlignedVector<float> ramp_;                    // (i + 1) / B
+  AlignedVector<float> r_, r2_;                  // (i + 1) / B and its square
 };
 
 }  // namespace earshot::audio

@@ -18,9 +18,10 @@ void multiply_add(const float* x, const float* h, float* acc, std::size_t S);
 /// is read (F16C where the CPU has it, checked once at load).
 void multiply_add_half(const float* x, const std::uint16_t* h, float* acc, std::size_t S);
 
-/// out += (g0 + dg * ramp[i]) * x[i] over n samples (a gain ramp; n need
-/// not be a multiple of 8).
-void add_ramped(const float* x, float g0, float dg, const float* ramp, float* out, std::size_t n);
+/// out += (c0 + c1 r[i] + c2 r2[i]) * x[i] over n samples, r2 = r^2 (a gain
+/// curve across a block; n need not be a multiple of 8).
+void add_shaped(const float* x, float c0, float c1, float c2, const float* r, const float* r2, float* out,
+                std::size_t n);
 
 /// Interleaved complex (n values) to planar (re[0..S), im[0..S)), S >= n;
 /// the padding bins are left as they are.

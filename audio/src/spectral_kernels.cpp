@@ -10,6 +10,7 @@
 #endif
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <cpuid.h>
 #include <immintrin.h>
 #define EARSHOT_HAVE_F16C_PATH 1
 #endif
@@ -22,7 +23,10 @@ namespace {
 #ifdef EARSHOT_HAVE_F16C_PATH
 bool cpu_has_f16c() {
   __builtin_cpu_init();  // this runs as a static initialiser, maybe before the CPU model is read
-  return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("f16c");
+  // Clang's __builtin_cpu_supports does not know "f16c": ask CPUID (leaf 1, ECX).
+  unsigned a = 0, b = 0, c = 0, d = 0;
+  const bool f16c = __get_cpuid(1, &a, &b, &c, &d) != 0 && (c & bit_F16C) != 0;
+  return f16c && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
 }
 // Read-only after load: which multiply_add_half to run.
 const bool kF16c = cpu_has_f16c();

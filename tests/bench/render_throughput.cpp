@@ -9,7 +9,7 @@
 //
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
-//                     [--stop-below 0.2] [--only earshot|openal]
+//                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
@@ -226,7 +226,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
-  std::string only = "both";
+  std::string only = "both", csv_path;
+  app.add_option("--csv", csv_path, "also write the table as CSV (for tools/plot_throughput.py)");
   app.add_option("--only", only, "run one renderer (for a profiler)")->check(CLI::IsMember({"both", "earshot", "openal"}));
   CLI11_PARSE(app, argc, argv);
   std::sort(ns.begin(), ns.end());
@@ -274,6 +275,14 @@ int main(int argc, char** argv) {
                   ear[k] > 0 && oal[k] > 0 ? cell(ear[k] / oal[k], "%.2f").c_str() : "-",
                   cell(ear[k] > 0 ? block_us / (ear[k] * ns[k]) : 0, "%.2f").c_str(),
                   cell(oal[k] > 0 ? block_us / (oal[k] * ns[k]) : 0, "%.2f").c_str());
+    if (!csv_path.empty()) {
+      std::FILE* f = std::fopen(csv_path.c_str(), "w");
+      if (!f) throw std::runtime_error(csv_path + ": cannot write");
+      std::fprintf(f, "sources,moving,earshot_rtf,openal_rtf\n");  // RTF 0: not run
+      for (std::size_t k = 0; k < ns.size(); ++k)
+        std::fprintf(f, "%d,%d,%.6g,%.6g\n", ns[k], budget.still ? 0 : 1, ear[k], oal[k]);
+      if (std::fclose(f) != 0) throw std::runtime_error(csv_path + ": cannot write");
+    }
     std::printf("\nSources per core at realtime factor 1: Earshot %s; OpenAL Soft %s.\n",
                 sources_per_core(ns, ear).c_str(), sources_per_core(ns, oal).c_str());
   } catch (const std::exception& e) {

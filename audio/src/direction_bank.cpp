@@ -69,13 +69,14 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
     const std::size_t ear = l & 1;
     const auto e = static_cast<hrtf::Ear>(ear);
     const float* head = spectra_->head(l >> 1, e).data();
-    const std::uint16_t* tail = spectra_->tail(l >> 1, e).data();
+    const std::int16_t* tail = spectra_->tail(l >> 1, e).data();
+    const float* scale = spectra_->tail_scale(l >> 1, e).data();
     // Partition p's product belongs to the output p blocks ahead.
     kernels::multiply_add(x, head, ahead_.data() + (now_ * 2 + ear) * P, stride_);
     ahead_used_[now_ * 2 + ear] = 1;
     for (std::size_t p = 1; p < parts_; ++p) {
       const std::size_t slot = (now_ + p) % parts_;
-      kernels::multiply_add_half(x, tail + (p - 1) * P, ahead_.data() + (slot * 2 + ear) * P, stride_);
+      kernels::multiply_add_scaled(x, tail + (p - 1) * P, scale[p - 1], ahead_.data() + (slot * 2 + ear) * P, stride_);
       ahead_used_[slot * 2 + ear] = 1;
     }
     ++lanes_run_;

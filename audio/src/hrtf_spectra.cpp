@@ -1,13 +1,25 @@
 #include "earshot/audio/hrtf_spectra.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
-#include "earshot/audio/half_float.hpp"
 #include "earshot/audio/real_fft.hpp"
 #include "earshot/audio/spectral_kernels.hpp"
 
 namespace earshot::audio {
+namespace {
+
+/// One partition's values as round(v / scale), scale = largest |v| / 32767.
+void quantise(const std::vector<float>& values, float& scale, std::int16_t* out) {
+  float peak = 0.0f;
+  for (float v : values) peak = std::max(peak, std::abs(v));
+  scale = peak > 0.0f ? peak / 32767.0f : 1.0f;
+  for (std::size_t i = 0; i < values.size(); ++i)
+    out[i] = static_cast<std::int16_t>(std::clamp(std::lround(values[i] / scale), -32767L, 32767L));
+}
+
+}  // namespace
 
 HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
     : block_(block),
@@ -17,6 +29,7 @@ HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
   const std::size_t P = 2 * stride(), M = set.measurement_count();
   head_.assign(M * 2 * P, 0.0f);
   tail_.assign(M * 2 * (parts_ - 1) * P, 0);
+  scale_.assign(M * 2 * (parts_ - 1), 0.0f);
   RealFft fft(2 * block);
   std::vector<float> padded(2 * block);
   std::vector<std::complex<float>> bins_out(bins());
@@ -34,7 +47,7 @@ HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
         if (p == 0)
           std::copy(planar.begin(), planar.end(), head_.data() + lane * P);
         else
-          std::transform(planar.begin(), planar.end(), tail_.data() + (lane * (parts_ - 1) + p - 1) * P, float_to_half);
+          quantise(planar, scale_[lane * (parts_ - 1) + p - 1], tail_.data() + (lane * (parts_ - 1) + p - 1) * P);
       }
     }
 }
@@ -44,9 +57,13 @@ std::span<const float> HrtfSpectra::head(std::size_t m, hrtf::Ear ear) const {
   return {head_.data() + (2 * m + static_cast<std::size_t>(ear)) * P, P};
 }
 
-std::span<const std::uint16_t> HrtfSpectra::tail(std::size_t m, hrtf::Ear ear) const {
+std::span<const std::int16_t> HrtfSpectra::tail(std::size_t m, hrtf::Ear ear) const {
   const std::size_t n = (parts_ - 1) * 2 * stride();
   return {tail_.data() + (2 * m + static_cast<std::size_t>(ear)) * n, n};
+}
+
+std::span<const float> HrtfSpectra::tail_scale(std::size_t m, hrtf::Ear ear) const {
+  return {scale_.data() + (2 * m + static_cast<std::size_t>(ear)) * (parts_ - 1), parts_ - 1};
 }
 
 }  // namespace earshot::audio

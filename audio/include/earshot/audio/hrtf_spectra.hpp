@@ -38,17 +38,21 @@ class HrtfSpectra {
   /// of the response, with nearly all of its energy, kept in float.
   [[nodiscard]] std::span<const float> head(std::size_t measurement, hrtf::Ear ear) const;
   /// Partitions 1 .. partitions() - 1, (partitions() - 1) * 2 * stride()
-  /// values, as IEEE half floats (half_float.hpp). The bank streams every
-  /// spectrum each block, so fewer bytes is speed; the tail is 25 dB or more
-  /// below the head (MIT KEMAR), so the halves' rounding (-66 dB of each
-  /// value, a little of it leaking past the partition as overlap-save
-  /// aliasing) stays far below anything audible.
-  [[nodiscard]] std::span<const std::uint16_t> tail(std::size_t measurement, hrtf::Ear ear) const;
-
+  /// values, as 16-bit integers: partition p's values are tail()[..] times
+  /// tail_scale(m, ear)[p - 1]. The bank streams every spectrum each block,
+  /// so fewer bytes is speed. One scale per partition fits its largest
+  /// value, so the rounding sits about 90 dB below the partition (and the
+  /// tail is 25 dB or more below the head for MIT KEMAR). Half floats
+  /// (-66 dB of each value) were tried: their rounding leaks past the
+  /// partition's zero-padded half as overlap-save aliasing, which repeats
+  /// with the block and put block-rate sidebands 94 dB down on a still tone.
+  [[nodiscard]] std::span<const std::int16_t> tail(std::size_t measurement, hrtf::Ear ear) const;
+  [[nodiscard]] std::span<const float> tail_scale(std::size_t measurement, hrtf::Ear ear) const;
  private:
   std::size_t block_, parts_, measurements_;
   AlignedVector<float> head_;          // [measurement][ear][re, im][stride]
-  AlignedVector<std::uint16_t> tail_;  // [measurement][ear][partition - 1][re, im][stride], half floats
+  AlignedVector<std::int16_t> tail_;  // [measurement][ear][partition - 1][re, im][stride], scaled
+  std::vector<float> scale_;          // [measurement][ear][partition - 1]
 };
 
 }  // namespace earshot::audio

@@ -14,9 +14,8 @@ namespace earshot::audio::kernels {
 /// acc += x * h over one partition of S bins.
 void multiply_add(const float* x, const float* h, float* acc, std::size_t S);
 
-/// The same with h in IEEE half precision (half_float.hpp), widened as it
-/// is read (F16C where the CPU has it, checked once at load).
-void multiply_add_half(const float* x, const std::uint16_t* h, float* acc, std::size_t S);
+/// The same with h stored as 16-bit integers times `scale`.
+void multiply_add_scaled(const float* x, const std::int16_t* h, float scale, float* acc, std::size_t S);
 
 /// out += (c0 + c1 r[i] + c2 r2[i]) * x[i] over n samples, r2 = r^2 (a gain
 /// curve across a block; n need not be a multiple of 8).

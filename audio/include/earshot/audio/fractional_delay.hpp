@@ -4,8 +4,8 @@
 // click, and a changing delay bends the pitch as Doppler does).
 //
 // Reads are band-limited: a 16-tap Kaiser-windowed sinc for the delay's
-// fraction, interpolated linearly between the rows of a 256-entry table
-// (33 KB, so it stays in cache; rounding to the nearest of 1024 rows left
+// fraction, interpolated linearly between the rows of a 128-entry table
+// (16 KB, so it stays in cache; rounding to the nearest of 1024 rows left
 // sidebands only ~80 dB down, loud enough to show once an HRTF boosts
 // 2-4 kHz). Its response is flat to within 0.1 dB up to 16 kHz at 48 kHz
 // for every fraction, so a fractional delay never low-passes one ear more

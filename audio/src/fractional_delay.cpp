@@ -16,9 +16,13 @@ namespace earshot::audio {
 namespace {
 
 constexpr std::size_t kTaps = FractionalDelay::kTaps;
-constexpr std::size_t kPhases = FractionalDelay::kPhases;
+constexpr std::size_t kCells = FractionalDelay::kCells;
 constexpr double kHalf = kTaps / 2;
 constexpr double kBeta = 7.0;  // Kaiser window: sidelobes near -70 dB
+constexpr std::size_t kCellStride = 3 * kTaps;  // a0, a1, a2 of one cell
+// A group of eight reads reaches kTaps + 7 samples past its first: the ring
+// repeats its first kMirror samples past its end so no read wraps.
+constexpr std::size_t kMirror = kTaps + 8;
 
 double bessel_i0(double x) {
   double sum = 1.0, term = 1.0;
@@ -29,68 +33,87 @@ double bessel_i0(double x) {
   return sum;
 }
 
-/// Entry p holds the taps for a fraction p / kPhases, ordered from the
-/// oldest sample read to the newest, each row normalised to unit DC gain,
-/// then their change to entry p + 1: a fraction between gets the row
-/// interpolated linearly, k = row + f * delta (kStride floats per entry).
-/// Built once and never written again: shared by every delay line.
-constexpr std::size_t kStride = 2 * kTaps;
+/// The exact kernel for a fraction in [0, 1]: a Kaiser-windowed sinc, taps
+/// ordered from the oldest sample read to the newest, unit DC gain.
+std::array<double, kTaps> exact_kernel(double frac) {
+  std::array<double, kTaps> row{};
+  double sum = 0.0;
+  for (std::size_t i = 0; i < kTaps; ++i) {
+    // Tap i reads the sample (kHalf - i) older than the integer delay.
+    const double x = kHalf - static_cast<double>(i) - frac;
+    double sinc = 1.0;
+    if (x != 0.0) sinc = (x == std::round(x)) ? 0.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
+    const double r = x / kHalf;
+    const double w = std::abs(r) >= 1.0 ? 0.0 : bessel_i0(kBeta * std::sqrt(1.0 - r * r)) / bessel_i0(kBeta);
+    row[i] = sinc * w;
+    sum += row[i];
+  }
+  for (double& v : row) v /= sum;
+  return row;
+}
+
+/// Cell c covers fractions [c, c + 1) / kCells; within it the kernel is the
+/// quadratic a0 + a1 u + a2 u^2 (u = 0..1 across the cell) through the exact
+/// kernels at the cell's start, middle and end. So it is continuous from
+/// cell to cell, exact at whole delays, and within 106 dB of the exact
+/// kernel's response up to 20 kHz (the linear interpolation between 128
+/// rows it replaced: 85 dB). Built once, never written again: shared by
+/// every delay line.
 const std::vector<float>& kernel_table() {
   static const std::vector<float> table = [] {
-    std::vector<std::array<double, kTaps>> rows(kPhases + 1);
-    for (std::size_t p = 0; p <= kPhases; ++p) {
-      const double frac = static_cast<double>(p) / kPhases;
-      std::array<double, kTaps>& row = rows[p];
-      double sum = 0.0;
+    std::vector<float> t(kCells * kCellStride);
+    for (std::size_t c = 0; c < kCells; ++c) {
+      const auto k0 = exact_kernel(static_cast<double>(c) / kCells);
+      const auto kh = exact_kernel((static_cast<double>(c) + 0.5) / kCells);
+      const auto k1 = exact_kernel(static_cast<double>(c + 1) / kCells);
+      float* a = t.data() + c * kCellStride;
       for (std::size_t i = 0; i < kTaps; ++i) {
-        // Tap i reads the sample (kHalf - i) older than the integer delay.
-        const double x = kHalf - static_cast<double>(i) - frac;
-        double sinc = 1.0;
-        if (x != 0.0) sinc = (x == std::round(x)) ? 0.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
-        const double r = x / kHalf;
-        const double w = std::abs(r) >= 1.0 ? 0.0 : bessel_i0(kBeta * std::sqrt(1.0 - r * r)) / bessel_i0(kBeta);
-        row[i] = sinc * w;
-        sum += row[i];
+        a[i] = static_cast<float>(k0[i]);
+        a[kTaps + i] = static_cast<float>(-3.0 * k0[i] + 4.0 * kh[i] - k1[i]);
+        a[2 * kTaps + i] = static_cast<float>(2.0 * k0[i] - 4.0 * kh[i] + 2.0 * k1[i]);
       }
-      for (double& v : row) v /= sum;
     }
-    std::vector<float> t(kPhases * kStride);
-    for (std::size_t p = 0; p < kPhases; ++p)
-      for (std::size_t i = 0; i < kTaps; ++i) {
-        t[p * kStride + i] = static_cast<float>(rows[p][i]);
-        t[p * kStride + kTaps + i] = static_cast<float>(rows[p + 1][i] - rows[p][i]);
-      }
     return t;
   }();
   return table;
 }
 
-/// A gliding read's walk: sample i reads at pos = pos0 + step (i + 1)
-/// (32.32 fixed point, in samples of delay), so its kernel starts at ring
-/// index (base + i - whole(pos)) & mask, and its taps are table entry
-/// phase(pos) interpolated by the rest of the fraction.
+/// A gliding read's walk: sample i reads at pos = pos0 + step (i + 1), in
+/// 32.32 fixed point samples of delay. Its top bits past the whole samples
+/// name the cell (pos >> kUBits counts cells from delay 0), the rest is u.
+/// Sample i's kernel starts at ring index (base + i - whole) & mask.
 struct Glide {
   const float* ring;
   std::size_t mask, base;
   std::int64_t pos0, step;
   const float* table;
 };
-constexpr int kPhaseBits = std::countr_zero(kPhases);
-constexpr int kRestBits = 32 - kPhaseBits;
-constexpr float kRestScale = 1.0f / static_cast<float>(std::uint32_t{1} << kRestBits);
+constexpr int kCellBits = std::countr_zero(kCells);
+constexpr int kUBits = 32 - kCellBits;
+constexpr std::int64_t kUMask = (std::int64_t{1} << kUBits) - 1;
+constexpr float kUScale = 1.0f / static_cast<float>(std::int64_t{1} << kUBits);
+
+std::int64_t walk(const Glide& g, std::size_t i) { return g.pos0 + g.step * static_cast<std::int64_t>(i + 1); }
+/// Where the kernel of sample i starts when its cell (counted from delay 0) is `cell`.
+const float* window(const Glide& g, std::size_t i, std::int64_t cell) {
+  return g.ring + ((g.base + i - static_cast<std::size_t>(cell >> kCellBits)) & g.mask);
+}
+const float* coefficients(const Glide& g, std::int64_t cell) {
+  return g.table + static_cast<std::size_t>(cell & (kCells - 1)) * kCellStride;
+}
 
 /// One sample of the walk, the reference way: eight lane sums, then halved pairwise.
 float glide_sample(const Glide& g, std::size_t i) {
-  const std::int64_t pos = g.pos0 + g.step * static_cast<std::int64_t>(i + 1);
-  const auto fraction = static_cast<std::uint32_t>(pos & 0xFFFFFFFF);
-  const float* x = g.ring + ((g.base + i - static_cast<std::size_t>(pos >> 32)) & g.mask);
-  const float* row = g.table + (fraction >> kRestBits) * kStride;
-  const float* delta = row + kTaps;
-  const float f = static_cast<float>(fraction & ((std::uint32_t{1} << kRestBits) - 1)) * kRestScale;
+  const std::int64_t pos = walk(g, i), cell = pos >> kUBits;
+  const float* x = window(g, i, cell);
+  const float* a = coefficients(g, cell);
+  const float u = static_cast<float>(pos & kUMask) * kUScale;
   std::array<float, kTaps / 2> lanes;
   for (std::size_t t = 0; t < kTaps / 2; ++t) {
-    const std::size_t u = t + kTaps / 2;
-    lanes[t] = (row[t] + f * delta[t]) * x[t] + (row[u] + f * delta[u]) * x[u];
+    const std::size_t v = t + kTaps / 2;
+    const float kt = a[t] + u * (a[kTaps + t] + u * a[2 * kTaps + t]);
+    const float kv = a[v] + u * (a[kTaps + v] + u * a[2 * kTaps + v]);
+    lanes[t] = kt * x[t] + kv * x[v];
   }
   for (std::size_t w = kTaps / 4; w > 0; w /= 2)
     for (std::size_t t = 0; t < w; ++t) lanes[t] += lanes[t + w];
@@ -102,38 +125,78 @@ void glide_generic(const Glide& g, float* out, std::size_t n) {
 }
 
 #ifdef EARSHOT_DELAY_AVX2
-/// The same with AVX2, eight samples at a time: one 8-lane product per
-/// sample, then the eight vectors transposed and summed together (three
-/// rounds of horizontal adds) rather than one horizontal sum per sample.
-/// A last group of fewer than eight takes the reference way.
+/// Eight consecutive samples whose kernels all lie in one cell with one
+/// whole delay: the three polynomial coefficients' FIRs, run across the
+/// eight samples at once (lane j reads x[j + t]), then a0 + u (a1 + u a2)
+/// per lane. Even and odd taps sum apart to halve the dependency chains.
+__attribute__((target("avx2,fma"))) inline __m256 cell_fir(const float* x, const float* a, __m256 u) {
+  __m256 e0 = _mm256_setzero_ps(), e1 = e0, e2 = e0, o0 = e0, o1 = e0, o2 = e0;
+  for (std::size_t t = 0; t < kTaps; t += 2) {
+    const __m256 xe = _mm256_loadu_ps(x + t), xo = _mm256_loadu_ps(x + t + 1);
+    e0 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + t), xe, e0);
+    e1 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + kTaps + t), xe, e1);
+    e2 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + 2 * kTaps + t), xe, e2);
+    o0 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + t + 1), xo, o0);
+    o1 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + kTaps + t + 1), xo, o1);
+    o2 = _mm256_fmadd_ps(_mm256_broadcast_ss(a + 2 * kTaps + t + 1), xo, o2);
+  }
+  const __m256 z0 = _mm256_add_ps(e0, o0), z1 = _mm256_add_ps(e1, o1), z2 = _mm256_add_ps(e2, o2);
+  return _mm256_fmadd_ps(u, _mm256_fmadd_ps(u, z2, z1), z0);
+}
+
+/// Eight samples each with its own kernel (a fast glide crossing many
+/// cells): one 8-lane product per sample, then the eight vectors transposed
+/// and summed together (three rounds of horizontal adds).
+__attribute__((target("avx2,fma"))) void glide_each(const Glide& g, std::size_t i0, float* out) {
+  __m256 s[8];
+  for (std::size_t j = 0; j < 8; ++j) {
+    const std::int64_t pos = walk(g, i0 + j), cell = pos >> kUBits;
+    const float* x = window(g, i0 + j, cell);
+    const float* a = coefficients(g, cell);
+    const __m256 u = _mm256_set1_ps(static_cast<float>(pos & kUMask) * kUScale);
+    const __m256 lo = _mm256_fmadd_ps(u, _mm256_fmadd_ps(u, _mm256_loadu_ps(a + 32), _mm256_loadu_ps(a + 16)), _mm256_loadu_ps(a));
+    const __m256 hi = _mm256_fmadd_ps(u, _mm256_fmadd_ps(u, _mm256_loadu_ps(a + 40), _mm256_loadu_ps(a + 24)), _mm256_loadu_ps(a + 8));
+    s[j] = _mm256_fmadd_ps(hi, _mm256_loadu_ps(x + 8), _mm256_mul_ps(lo, _mm256_loadu_ps(x)));
+  }
+  const __m256 t0 = _mm256_hadd_ps(s[0], s[1]), t1 = _mm256_hadd_ps(s[2], s[3]);
+  const __m256 t2 = _mm256_hadd_ps(s[4], s[5]), t3 = _mm256_hadd_ps(s[6], s[7]);
+  const __m256 u0 = _mm256_hadd_ps(t0, t1), u1 = _mm256_hadd_ps(t2, t3);  // halves of samples 0-3, 4-7
+  _mm256_storeu_ps(out + i0, _mm256_add_ps(_mm256_permute2f128_ps(u0, u1, 0x20), _mm256_permute2f128_ps(u0, u1, 0x31)));
+}
+
+/// The walk eight samples at a time. A delay moves slowly against a cell
+/// (1/32 sample): a group's eight kernels mostly share one cell, sometimes
+/// two or three. Each cell in the group runs cell_fir over all eight
+/// samples and keeps the lanes that are in it; a group spanning more cells
+/// (a fast Doppler glide) takes glide_each.
+constexpr std::int64_t kMaxCellsPerGroup = 3;
 __attribute__((target("avx2,fma"))) void glide_avx2(const Glide& g, float* out, std::size_t n) {
-  // The fractions' low 32 bits need only 32-bit arithmetic: eight at once.
-  const auto p0 = static_cast<std::uint32_t>(g.pos0), st = static_cast<std::uint32_t>(g.step);
-  const __m256i steps = _mm256_mullo_epi32(_mm256_set1_epi32(static_cast<int>(st)), _mm256_setr_epi32(1, 2, 3, 4, 5, 6, 7, 8));
-  const __m256i rest_mask = _mm256_set1_epi32((1 << kRestBits) - 1);
-  alignas(32) std::uint32_t phase[8];
-  alignas(32) float f[8];
+  const auto st = static_cast<std::uint32_t>(g.step);
+  const __m256i steps = _mm256_mullo_epi32(_mm256_set1_epi32(static_cast<int>(st)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i u_mask = _mm256_set1_epi32(static_cast<int>(kUMask));
+  const __m256 u_scale = _mm256_set1_ps(kUScale);
   std::size_t i0 = 0;
   for (; i0 + 8 <= n; i0 += 8) {
-    const __m256i frac = _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(p0 + st * static_cast<std::uint32_t>(i0))), steps);
-    _mm256_store_si256(reinterpret_cast<__m256i*>(phase), _mm256_srli_epi32(frac, kRestBits));
-    _mm256_store_ps(f, _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(frac, rest_mask)), _mm256_set1_ps(kRestScale)));
-    __m256 s[8];
-    for (std::size_t j = 0; j < 8; ++j) {
-      const std::size_t i = i0 + j;
-      const auto whole = static_cast<std::size_t>((g.pos0 + g.step * static_cast<std::int64_t>(i + 1)) >> 32);
-      const float* x = g.ring + ((g.base + i - whole) & g.mask);
-      const float* k = g.table + phase[j] * kStride;
-      const __m256 fj = _mm256_broadcast_ss(f + j);
-      const __m256 lo = _mm256_fmadd_ps(fj, _mm256_loadu_ps(k + 16), _mm256_loadu_ps(k));
-      const __m256 hi = _mm256_fmadd_ps(fj, _mm256_loadu_ps(k + 24), _mm256_loadu_ps(k + 8));
-      s[j] = _mm256_fmadd_ps(hi, _mm256_loadu_ps(x + 8), _mm256_mul_ps(lo, _mm256_loadu_ps(x)));
+    const std::int64_t first = walk(g, i0), last = walk(g, i0 + 7);
+    const std::int64_t lo = std::min(first, last) >> kUBits, hi = std::max(first, last) >> kUBits;
+    if (hi - lo >= kMaxCellsPerGroup) {
+      glide_each(g, i0, out);
+      continue;
     }
-    const __m256 t0 = _mm256_hadd_ps(s[0], s[1]), t1 = _mm256_hadd_ps(s[2], s[3]);
-    const __m256 t2 = _mm256_hadd_ps(s[4], s[5]), t3 = _mm256_hadd_ps(s[6], s[7]);
-    const __m256 u0 = _mm256_hadd_ps(t0, t1), u1 = _mm256_hadd_ps(t2, t3);  // halves of samples 0-3, 4-7
-    _mm256_storeu_ps(out + i0,
-                     _mm256_add_ps(_mm256_permute2f128_ps(u0, u1, 0x20), _mm256_permute2f128_ps(u0, u1, 0x31)));
+    // Positions relative to the start of cell lo fit 32 bits (< 3 cells).
+    const __m256i rel =
+        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(first - (lo << kUBits)))), steps);
+    const __m256 u = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(rel, u_mask)), u_scale);
+    __m256 y = cell_fir(window(g, i0, lo), coefficients(g, lo), u);
+    if (hi != lo) {
+      const __m256i lane_cell = _mm256_srli_epi32(rel, kUBits);  // 0 .. hi - lo
+      for (std::int64_t c = lo + 1; c <= hi; ++c) {
+        const __m256 yc = cell_fir(window(g, i0, c), coefficients(g, c), u);
+        const __m256i in_c = _mm256_cmpeq_epi32(lane_cell, _mm256_set1_epi32(static_cast<int>(c - lo)));
+        y = _mm256_blendv_ps(y, yc, _mm256_castsi256_ps(in_c));
+      }
+    }
+    _mm256_storeu_ps(out + i0, y);
   }
   for (; i0 < n; ++i0) out[i0] = glide_sample(g, i0);
 }
@@ -141,12 +204,14 @@ __attribute__((target("avx2,fma"))) void glide_avx2(const Glide& g, float* out, 
 
 }  // namespace
 
-FractionalDelay::FractionalDelay(std::size_t block, double max_delay_samples)
+FractionalDelay::FractionalDelay(std::size_t block, double max_delay_samples, bool portable)
     : max_delay_(std::max(kMinDelay, max_delay_samples)), kernels_(kernel_table().data()) {
-  size_ = std::bit_ceil(block + static_cast<std::size_t>(std::ceil(max_delay_)) + kTaps + 2);
-  ring_.assign(size_ + kTaps, 0.0f);
+  size_ = std::bit_ceil(block + static_cast<std::size_t>(std::ceil(max_delay_)) + kMirror + 2);
+  ring_.assign(size_ + kMirror, 0.0f);
 #ifdef EARSHOT_DELAY_AVX2
-  avx2_ = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  avx2_ = !portable && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+#else
+  (void)portable;
 #endif
 }
 
@@ -168,13 +233,13 @@ void FractionalDelay::process(std::span<const float> in, std::span<float> out, d
 
 void FractionalDelay::write(std::span<const float> in) {
   // In at most two runs (the ring wraps once at most per block), then the
-  // mirror of the ring's first kTaps samples past its end.
+  // mirror of the ring's first kMirror samples past its end.
   std::size_t done = 0;
   while (done < in.size()) {
     const std::size_t run = std::min(in.size() - done, size_ - write_);
     std::copy_n(in.begin() + static_cast<std::ptrdiff_t>(done), run, ring_.begin() + static_cast<std::ptrdiff_t>(write_));
-    if (write_ < kTaps) {
-      const std::size_t m = std::min(run, kTaps - write_);
+    if (write_ < kMirror) {
+      const std::size_t m = std::min(run, kMirror - write_);
       std::copy_n(ring_.begin() + static_cast<std::ptrdiff_t>(write_), m, ring_.begin() + static_cast<std::ptrdiff_t>(size_ + write_));
     }
     done += run;
@@ -186,33 +251,36 @@ void FractionalDelay::write(std::span<const float> in) {
   for (std::size_t i = 0; i < in.size(); i += 16) __builtin_prefetch(ring_.data() + ((write_ + i) & (size_ - 1)), 1, 1);
 }
 
+void FractionalDelay::prefetch_read(std::size_t n, double shortest, double longest) const {
+  const double lo = clamp_delay(std::min(shortest, longest)), hi = clamp_delay(std::max(shortest, longest));
+  // The next block's sample i goes to write_ + i; its kernels read from
+  // kHalf samples before the longest whole delay to kHalf after the
+  // shortest, with two samples' margin for motion either side.
+  const std::size_t reach = static_cast<std::size_t>(hi) + static_cast<std::size_t>(kHalf) + 2;
+  const std::size_t from = (write_ + size_ - reach) & (size_ - 1);
+  const std::size_t span = n + static_cast<std::size_t>(hi - lo) + kTaps + 4;
+  for (std::size_t i = 0; i < span + 15; i += 16) __builtin_prefetch(ring_.data() + ((from + i) & (size_ - 1)), 0, 3);
+}
+
 void FractionalDelay::read(std::span<float> out, double from, double to) const {
   const double start = clamp_delay(from), target = clamp_delay(to);
   const std::size_t n = out.size(), mask = size_ - 1;
   const std::size_t block_start = (write_ + size_ - n) & mask;  // where out[0]'s input sample was written
-  // Oldest sample the kernel reads: kHalf samples before the integer delay.
-  auto first_read = [&](std::size_t i, std::size_t whole) {
-    return (block_start + i + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
-  };
-  // A delay's whole samples, table entry and fraction within the entry.
-  auto split = [](double d, std::size_t& whole, std::size_t& phase, float& f) {
-    whole = static_cast<std::size_t>(d);
-    const double scaled = (d - static_cast<double>(whole)) * kPhases;
-    phase = std::min(static_cast<std::size_t>(scaled), kPhases - 1);
-    f = static_cast<float>(scaled - static_cast<double>(phase));
-  };
-  std::size_t whole = 0, phase = 0;
-  float f = 0.0f;
   if (start == target) {
     // A still delay: one kernel for the whole block, and while the ring
     // does not wrap the samples are contiguous, so the loop runs across
     // output samples, which vectorises.
-    split(target, whole, phase, f);
-    const std::size_t first = first_read(0, whole);
-    if (first + n + kTaps <= size_ + kTaps) {
+    const auto whole = static_cast<std::size_t>(target);
+    const double scaled = (target - static_cast<double>(whole)) * kCells;
+    const std::size_t cell = std::min(static_cast<std::size_t>(scaled), kCells - 1);
+    const auto u = static_cast<float>(scaled - static_cast<double>(cell));
+    // Oldest sample the kernel reads: kHalf samples before the integer delay.
+    const std::size_t first = (block_start + size_ - whole - static_cast<std::size_t>(kHalf)) & mask;
+    if (first + n + kTaps <= size_ + kMirror) {
       const float* x = ring_.data() + first;
+      const float* a = kernels_ + cell * kCellStride;
       std::array<float, kTaps> k;
-      for (std::size_t t = 0; t < kTaps; ++t) k[t] = kernels_[phase * kStride + t] + f * kernels_[phase * kStride + kTaps + t];
+      for (std::size_t t = 0; t < kTaps; ++t) k[t] = a[t] + u * (a[kTaps + t] + u * a[2 * kTaps + t]);
       std::fill(out.begin(), out.end(), 0.0f);
       for (std::size_t t = 0; t < kTaps; ++t) {
         const float kt = k[t];
@@ -223,7 +291,7 @@ void FractionalDelay::read(std::span<float> out, double from, double to) const {
     }
   }
   // A moving delay: the read position in 32.32 fixed point, so the whole
-  // and fractional parts come from shifts rather than float conversions.
+  // samples, cell and place in the cell come from shifts and masks.
   constexpr double kOne = 4294967296.0;  // 2^32
   const auto pos0 = static_cast<std::int64_t>(start * kOne);
   const auto pos_step = static_cast<std::int64_t>((target - start) / static_cast<double>(n) * kOne);

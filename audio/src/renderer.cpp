@@ -184,6 +184,10 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
 
   for (std::size_t s = 0; s < active_; ++s) {
     Voice& v = *voices_[s];
+    if (s + 1 < active_) {  // the next source's delayed samples, fetched while this one renders
+      const Voice& next = *voices_[s + 1];
+      if (next.ear_delay[0] >= 0.0) next.delay.prefetch_read(B, next.ear_delay[0], next.ear_delay[1]);
+    }
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
     HeadFrame hr = head_frame(v.state.position, frame);

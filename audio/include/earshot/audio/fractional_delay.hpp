@@ -4,18 +4,23 @@
 // click, and a changing delay bends the pitch as Doppler does).
 //
 // Reads are band-limited: a 16-tap Kaiser-windowed sinc for the delay's
-// fraction, interpolated linearly between the rows of a 128-entry table
-// (16 KB, so it stays in cache; rounding to the nearest of 1024 rows left
-// sidebands only ~80 dB down, loud enough to show once an HRTF boosts
-// 2-4 kHz). Its response is flat to within 0.1 dB up to 16 kHz at 48 kHz
-// for every fraction, so a fractional delay never low-passes one ear more
-// than the other (a cubic Lagrange read did, which shrank the rendered ILD
-// by up to 0.4 dB). The kernel reaches eight samples ahead: the delay is
-// never less than kMinDelay samples (a fixed latency callers add). A read
-// whose delay does not move across the block runs as one fixed FIR
-// (vectorised across samples); a gliding read computes eight samples' dot
-// products together (AVX2 where the CPU has it). Allocates at construction
-// only.
+// fraction. The fraction range is cut into 32 cells, and within a cell each
+// tap is a quadratic in the place in the cell, through the exact kernels at
+// its start, middle and end: within 106 dB of the exact response up to
+// 20 kHz, exact at whole delays, continuous from cell to cell. Its response
+// is flat to within 0.1 dB up to 16 kHz at 48 kHz for every fraction, so a
+// fractional delay never low-passes one ear more than the other (a cubic
+// Lagrange read did, which shrank the rendered ILD by up to 0.4 dB). The
+// kernel reaches eight samples ahead: the delay is never less than kMinDelay
+// samples (a fixed latency callers add).
+//
+// A read whose delay does not move across the block runs as one fixed FIR
+// (vectorised across samples). A gliding read takes eight samples at a
+// time: their kernels mostly share a cell, so the three coefficient FIRs run
+// across the eight samples together and the quadratic combines them per
+// sample (AVX2 where the CPU has it); groups that span more than three
+// cells (a fast Doppler glide) compute one kernel per sample. Allocates at
+// construction only.
 #pragma once
 
 #include <span>
@@ -27,9 +32,10 @@ class FractionalDelay {
  public:
   static constexpr double kMinDelay = 8.0;
   static constexpr std::size_t kTaps = 16;
-  static constexpr std::size_t kPhases = 128;  // table entries, a power of two
+  static constexpr std::size_t kCells = 32;  // kernel cells per sample of fraction, a power of two
 
-  FractionalDelay(std::size_t block, double max_delay_samples);
+  /// `portable` skips the CPU-specific gliding read (tests compare the two).
+  FractionalDelay(std::size_t block, double max_delay_samples, bool portable = false);
 
   /// Writes `in` and reads `out` (both block samples) at a delay moving to
   /// `delay_samples` (clamped to [kMinDelay, max]). The first call starts there.
@@ -42,16 +48,21 @@ class FractionalDelay {
   void write(std::span<const float> in);
   void read(std::span<float> out, double from, double to) const;
   [[nodiscard]] double clamp_delay(double delay_samples) const;
+  /// Asks the CPU for the ring lines that the next block's reads (n
+  /// samples, at delays near `shortest` to `longest`) will need, before
+  /// write(): with many delay lines these were written blocks ago and have
+  /// left the nearer caches. A hint only: changes no state.
+  void prefetch_read(std::size_t n, double shortest, double longest) const;
   void reset();
   [[nodiscard]] double max_delay() const { return max_delay_; }
 
  private:
-  std::vector<float> ring_;  // size_ samples plus a mirror of the first kTaps
+  std::vector<float> ring_;  // size_ samples plus a mirror of the first kTaps + 8
   std::size_t size_;
   std::size_t write_ = 0;
   double max_delay_;
   double delay_ = -1.0;  // previous block's delay; < 0 before the first block
-  const float* kernels_;  // kPhases entries of a row and its change, shared and immutable
+  const float* kernels_;  // kCells cells of three coefficient rows, shared and immutable
   bool avx2_ = false;     // the gliding read's AVX2 path (checked once, here, not per block)
 };
 

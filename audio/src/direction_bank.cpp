@@ -52,11 +52,38 @@ void DirectionBank::add(std::size_t m, std::size_t ear, std::span<const float> x
   kernels::add_shaped(x.data(), gain.c0, gain.c1, gain.c2, r_.data(), r2_.data(), in, block_);
 }
 
+void DirectionBank::prefetch(std::size_t m) const {
+  if (m >= measurements_) return;
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    const float* in = input_.data() + lane_index(m, ear) * input_stride(block_) + half_ * block_;
+    for (std::size_t i = 0; i < block_; i += 16) __builtin_prefetch(in + i, 1, 3);
+  }
+}
+
+namespace {
+/// The lines of n values from p onwards, asked for ahead of use.
+template <class T>
+void prefetch_lines(const T* p, std::size_t n) {
+  const auto* bytes = reinterpret_cast<const char*>(p);
+  for (std::size_t b = 0; b < n * sizeof(T); b += 64) __builtin_prefetch(bytes + b, 0, 3);
+}
+}  // namespace
+
 void DirectionBank::process(std::span<float> left, std::span<float> right) {
   const std::size_t B = block_, bins = B + 1, P = 2 * stride_, in_stride = input_stride(B);
   lanes_run_ = 0;
   std::size_t kept = 0;
-  for (const std::uint32_t l : active_) {
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    const std::uint32_t l = active_[k];
+    if (k + 1 < active_.size()) {
+      // The next lane's input and spectra (several KB, streamed from the
+      // outer caches) arrive while this lane's FFT runs.
+      const std::size_t next = active_[k + 1];
+      prefetch_lines(input_.data() + next * in_stride, 2 * B);
+      const auto ne = static_cast<hrtf::Ear>(next & 1);
+      prefetch_lines(spectra_->head(next >> 1, ne).data(), spectra_->head(next >> 1, ne).size());
+      prefetch_lines(spectra_->tail(next >> 1, ne).data(), spectra_->tail(next >> 1, ne).size());
+    }
     Lane& lane = lanes_[l];
     float* in = input_.data() + l * in_stride;
     // Listed lanes have input this block or the last: the window is not silence.

@@ -245,13 +245,9 @@ void FractionalDelay::write(std::span<const float> in) {
     done += run;
     write_ = (write_ + run) & (size_ - 1);
   }
-  // The next block's samples go where the ring was last written size_
-  // samples ago, long out of cache: ask for those lines now, so the next
-  // write does not wait on memory.
-  for (std::size_t i = 0; i < in.size(); i += 16) __builtin_prefetch(ring_.data() + ((write_ + i) & (size_ - 1)), 1, 1);
 }
 
-void FractionalDelay::prefetch_read(std::size_t n, double shortest, double longest) const {
+void FractionalDelay::prefetch(std::size_t n, double shortest, double longest) const {
   const double lo = clamp_delay(std::min(shortest, longest)), hi = clamp_delay(std::max(shortest, longest));
   // The next block's sample i goes to write_ + i; its kernels read from
   // kHalf samples before the longest whole delay to kHalf after the
@@ -260,6 +256,8 @@ void FractionalDelay::prefetch_read(std::size_t n, double shortest, double longe
   const std::size_t from = (write_ + size_ - reach) & (size_ - 1);
   const std::size_t span = n + static_cast<std::size_t>(hi - lo) + kTaps + 4;
   for (std::size_t i = 0; i < span + 15; i += 16) __builtin_prefetch(ring_.data() + ((from + i) & (size_ - 1)), 0, 3);
+  // And where write() will put the block: written size_ samples ago.
+  for (std::size_t i = 0; i < n + 15; i += 16) __builtin_prefetch(ring_.data() + ((write_ + i) & (size_ - 1)), 1, 3);
 }
 
 void FractionalDelay::read(std::span<float> out, double from, double to) const {

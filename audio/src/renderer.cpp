@@ -184,9 +184,14 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
 
   for (std::size_t s = 0; s < active_; ++s) {
     Voice& v = *voices_[s];
-    if (s + 1 < active_) {  // the next source's delayed samples, fetched while this one renders
+    if (s + 1 < active_) {
+      // With many sources, the next one's delayed samples and the bank
+      // lanes it panned into have left the nearer caches: ask for them now,
+      // so they arrive while this source renders.
       const Voice& next = *voices_[s + 1];
-      if (next.ear_delay[0] >= 0.0) next.delay.prefetch_read(B, next.ear_delay[0], next.ear_delay[1]);
+      if (next.ear_delay[0] >= 0.0) next.delay.prefetch(B, next.ear_delay[0], next.ear_delay[1]);
+      if (next.panned)
+        for (const std::uint32_t m : next.pans[1].index) bank_->prefetch(m);
     }
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative

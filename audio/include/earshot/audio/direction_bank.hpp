@@ -57,6 +57,11 @@ class DirectionBank {
   /// scaled by `gain`.
   void add(std::size_t m, std::size_t ear, std::span<const float> x, GainCurve gain);
 
+  /// Asks the CPU for the input lines of measurement m's two lanes, which
+  /// an add() will soon touch: with many sources they are spread over more
+  /// memory than the nearer caches hold. A hint only: changes no state.
+  void prefetch(std::size_t m) const;
+
   /// Convolves every lane with input or a ringing tail and adds the block's
   /// binaural output into left and right (block() samples each).
   void process(std::span<float> left, std::span<float> right);

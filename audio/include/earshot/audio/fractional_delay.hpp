@@ -48,11 +48,11 @@ class FractionalDelay {
   void write(std::span<const float> in);
   void read(std::span<float> out, double from, double to) const;
   [[nodiscard]] double clamp_delay(double delay_samples) const;
-  /// Asks the CPU for the ring lines that the next block's reads (n
-  /// samples, at delays near `shortest` to `longest`) will need, before
-  /// write(): with many delay lines these were written blocks ago and have
-  /// left the nearer caches. A hint only: changes no state.
-  void prefetch_read(std::size_t n, double shortest, double longest) const;
+  /// Asks the CPU for the ring lines that the next block's write (n
+  /// samples) and reads (at delays near `shortest` to `longest`) will need,
+  /// before write(): with many delay lines these were last touched blocks
+  /// ago and have left the nearer caches. A hint only: changes no state.
+  void prefetch(std::size_t n, double shortest, double longest) const;
   void reset();
   [[nodiscard]] double max_delay() const { return max_delay_; }
 

@@ -20,9 +20,9 @@ constexpr std::size_t kCells = FractionalDelay::kCells;
 constexpr double kHalf = kTaps / 2;
 constexpr double kBeta = 7.0;  // Kaiser window: sidelobes near -70 dB
 constexpr std::size_t kCellStride = 3 * kTaps;  // a0, a1, a2 of one cell
-// A group of eight reads reaches kTaps + 7 samples past its first: the ring
+// Sixteen reads in one cell reach kTaps + 15 samples past the first: the ring
 // repeats its first kMirror samples past its end so no read wraps.
-constexpr std::size_t kMirror = kTaps + 8;
+constexpr std::size_t kMirror = kTaps + 16;
 
 double bessel_i0(double x) {
   double sum = 1.0, term = 1.0;
@@ -144,6 +144,26 @@ __attribute__((target("avx2,fma"))) inline __m256 cell_fir(const float* x, const
   return _mm256_fmadd_ps(u, _mm256_fmadd_ps(u, z2, z1), z0);
 }
 
+/// The same for sixteen consecutive samples in one cell: each coefficient
+/// is loaded once for both halves.
+__attribute__((target("avx2,fma"))) inline void cell_fir16(const float* x, const float* a, __m256 u0, __m256 u1,
+                                                           float* out) {
+  __m256 p0 = _mm256_setzero_ps(), p1 = p0, p2 = p0, q0 = p0, q1 = p0, q2 = p0;
+  for (std::size_t t = 0; t < kTaps; ++t) {
+    const __m256 xp = _mm256_loadu_ps(x + t), xq = _mm256_loadu_ps(x + t + 8);
+    const __m256 c0 = _mm256_broadcast_ss(a + t), c1 = _mm256_broadcast_ss(a + kTaps + t),
+                 c2 = _mm256_broadcast_ss(a + 2 * kTaps + t);
+    p0 = _mm256_fmadd_ps(c0, xp, p0);
+    p1 = _mm256_fmadd_ps(c1, xp, p1);
+    p2 = _mm256_fmadd_ps(c2, xp, p2);
+    q0 = _mm256_fmadd_ps(c0, xq, q0);
+    q1 = _mm256_fmadd_ps(c1, xq, q1);
+    q2 = _mm256_fmadd_ps(c2, xq, q2);
+  }
+  _mm256_storeu_ps(out, _mm256_fmadd_ps(u0, _mm256_fmadd_ps(u0, p2, p1), p0));
+  _mm256_storeu_ps(out + 8, _mm256_fmadd_ps(u1, _mm256_fmadd_ps(u1, q2, q1), q0));
+}
+
 /// Eight samples each with its own kernel (a fast glide crossing many
 /// cells): one 8-lane product per sample, then the eight vectors transposed
 /// and summed together (three rounds of horizontal adds).
@@ -170,6 +190,17 @@ __attribute__((target("avx2,fma"))) void glide_each(const Glide& g, std::size_t 
 /// samples and keeps the lanes that are in it; a group spanning more cells
 /// (a fast Doppler glide) takes glide_each.
 constexpr std::int64_t kMaxCellsPerGroup = 3;
+/// Eight samples' positions from `first` (steps: 0..7 steps), relative to
+/// the start of `cell`: they fit 32 bits while they lie within a few cells.
+__attribute__((target("avx2,fma"))) inline __m256i relative(std::int64_t first, std::int64_t cell, __m256i steps) {
+  return _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(first - (cell << kUBits)))), steps);
+}
+/// Their places u (0..1) within their cells.
+__attribute__((target("avx2,fma"))) inline __m256 place(std::int64_t first, std::int64_t cell, __m256i steps) {
+  const __m256i rel = relative(first, cell, steps);
+  return _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(rel, _mm256_set1_epi32(static_cast<int>(kUMask)))),
+                       _mm256_set1_ps(kUScale));
+}
 __attribute__((target("avx2,fma"))) void glide_avx2(const Glide& g, float* out, std::size_t n) {
   const auto st = static_cast<std::uint32_t>(g.step);
   const __m256i steps = _mm256_mullo_epi32(_mm256_set1_epi32(static_cast<int>(st)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
@@ -178,14 +209,20 @@ __attribute__((target("avx2,fma"))) void glide_avx2(const Glide& g, float* out, 
   std::size_t i0 = 0;
   for (; i0 + 8 <= n; i0 += 8) {
     const std::int64_t first = walk(g, i0), last = walk(g, i0 + 7);
+    if (i0 + 16 <= n) {  // the common case: sixteen samples in one cell
+      const std::int64_t cell = first >> kUBits;
+      if (cell == last >> kUBits && cell == walk(g, i0 + 15) >> kUBits && cell == walk(g, i0 + 8) >> kUBits) {
+        cell_fir16(window(g, i0, cell), coefficients(g, cell), place(first, cell, steps), place(walk(g, i0 + 8), cell, steps), out + i0);
+        i0 += 8;
+        continue;
+      }
+    }
     const std::int64_t lo = std::min(first, last) >> kUBits, hi = std::max(first, last) >> kUBits;
     if (hi - lo >= kMaxCellsPerGroup) {
       glide_each(g, i0, out);
       continue;
     }
-    // Positions relative to the start of cell lo fit 32 bits (< 3 cells).
-    const __m256i rel =
-        _mm256_add_epi32(_mm256_set1_epi32(static_cast<int>(static_cast<std::uint32_t>(first - (lo << kUBits)))), steps);
+    const __m256i rel = relative(first, lo, steps);
     const __m256 u = _mm256_mul_ps(_mm256_cvtepi32_ps(_mm256_and_si256(rel, u_mask)), u_scale);
     __m256 y = cell_fir(window(g, i0, lo), coefficients(g, lo), u);
     if (hi != lo) {
@@ -218,10 +255,6 @@ FractionalDelay::FractionalDelay(std::size_t block, double max_delay_samples, bo
 void FractionalDelay::reset() {
   std::fill(ring_.begin(), ring_.end(), 0.0f);
   delay_ = -1.0;
-}
-
-double FractionalDelay::clamp_delay(double delay_samples) const {
-  return std::clamp(std::isfinite(delay_samples) ? delay_samples : kMinDelay, kMinDelay, max_delay_);
 }
 
 void FractionalDelay::process(std::span<const float> in, std::span<float> out, double delay_samples) {

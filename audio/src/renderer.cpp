@@ -184,6 +184,10 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
 
   for (std::size_t s = 0; s < active_; ++s) {
     Voice& v = *voices_[s];
+    if (s + 2 < active_) {  // the state of the source after next, read below one step from now
+      const auto* after = reinterpret_cast<const char*>(voices_[s + 2].get());
+      for (std::size_t b = 0; b < sizeof(Voice); b += 64) __builtin_prefetch(after + b, 0, 3);
+    }
     if (s + 1 < active_) {
       // With many sources, the next one's delayed samples and the bank
       // lanes it panned into have left the nearer caches: ask for them now,

@@ -23,6 +23,8 @@
 // construction only.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <span>
 #include <vector>
 
@@ -47,7 +49,9 @@ class FractionalDelay {
   /// `to` samples, each clamped to [kMinDelay, max]; a NaN reads kMinDelay.
   void write(std::span<const float> in);
   void read(std::span<float> out, double from, double to) const;
-  [[nodiscard]] double clamp_delay(double delay_samples) const;
+  [[nodiscard]] double clamp_delay(double delay_samples) const {
+    return std::clamp(std::isfinite(delay_samples) ? delay_samples : kMinDelay, kMinDelay, max_delay_);
+  }
   /// Asks the CPU for the ring lines that the next block's write (n
   /// samples) and reads (at delays near `shortest` to `longest`) will need,
   /// before write(): with many delay lines these were last touched blocks
@@ -57,7 +61,7 @@ class FractionalDelay {
   [[nodiscard]] double max_delay() const { return max_delay_; }
 
  private:
-  std::vector<float> ring_;  // size_ samples plus a mirror of the first kTaps + 8
+  std::vector<float> ring_;  // size_ samples plus a mirror of the first kTaps + 16
   std::size_t size_;
   std::size_t write_ = 0;
   double max_delay_;

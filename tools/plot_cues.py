@@ -12,34 +12,19 @@ lines and measured as dots, and the rendered-minus-measured errors. Azimuth is S
 counter-clockwise from ahead, +90 = left. Exit code 2 with a one-line message on bad input.
 """
 import argparse
-import csv
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plot_common import fail, read_csv_rows, save_figure  # noqa: E402
 
 COLUMNS = ["elevation_deg", "azimuth_deg", "itd_us", "itd_below_1500hz_us", "ild_db", "sofa_itd_us", "sofa_ild_db"]
 
 
-def fail(msg):
-    print(f"plot_cues: error: {msg}", file=sys.stderr)
-    sys.exit(2)
-
-
 def read(path):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        fail(f"{path}: cannot open: {e.strerror}")
-    if not rows:
-        fail(f"{path}: no data rows")
-    for c in COLUMNS:
-        if c not in rows[0]:
-            fail(f"{path}: missing column '{c}'")
+    rows = read_csv_rows(path, COLUMNS)
     data = {c: [] for c in COLUMNS}
     for line, r in enumerate(rows, start=2):
         for c in COLUMNS:
@@ -96,10 +81,7 @@ def main():
             ax.grid(alpha=0.3)
     fig.suptitle(a.title)
     fig.tight_layout()
-    try:
-        fig.savefig(a.out, dpi=90)
-    except OSError as e:
-        fail(f"{a.out}: cannot write: {e.strerror}")
+    save_figure(fig, a.out, dpi=90)
     print(f"wrote {a.out}")
 
 

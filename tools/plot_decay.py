@@ -14,18 +14,13 @@ with a one-line message on bad input.
 """
 import argparse
 import struct
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def fail(msg):
-    print(f"plot_decay: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+from plot_common import fail, save_figure  # noqa: E402
 
 
 def read_wav(path):
@@ -160,10 +155,7 @@ def main():
         a_.set_xlim(0, t_end)
     fig.suptitle(a.title or ", ".join(a.wav))
     fig.tight_layout()
-    try:
-        fig.savefig(a.out, dpi=90)
-    except OSError as e:
-        fail(f"{a.out}: cannot write: {e.strerror}")
+    save_figure(fig, a.out, dpi=90)
 
 
 if __name__ == "__main__":

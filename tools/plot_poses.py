@@ -10,33 +10,19 @@ and the translation and rotation errors over time; frames that are not `tracking
 shaded. Exit code 2 with a one-line message on bad input.
 """
 import argparse
-import csv
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def fail(msg):
-    print(f"plot_poses: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+from plot_common import fail, read_csv_rows, save_figure  # noqa: E402
 
 
 def read_columns(path, names):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        fail(f"{path}: cannot open: {e.strerror}")
-    if not rows:
-        fail(f"{path}: no data rows")
+    rows = read_csv_rows(path, names)
     out = {}
     for n in names:
-        if n not in rows[0]:
-            fail(f"{path}: missing column '{n}'")
         if n == "state":
             out[n] = np.array([r[n] for r in rows])
             continue
@@ -147,10 +133,7 @@ def main():
         a_.set_xlabel("time (s)")
     fig.suptitle(a.title or f"{a.poses} against {a.dots}")
     fig.tight_layout()
-    try:
-        fig.savefig(a.out, dpi=90)
-    except OSError as e:
-        fail(f"{a.out}: cannot write: {e.strerror}")
+    save_figure(fig, a.out, dpi=90)
 
 
 if __name__ == "__main__":

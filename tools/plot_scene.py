@@ -12,34 +12,17 @@ with a dot every second; a still one is a star. Exit code 2 with a one-line mess
 bad input.
 """
 import argparse
-import csv
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-
-
-def fail(msg):
-    print(f"plot_scene: error: {msg}", file=sys.stderr)
-    sys.exit(2)
+from plot_common import fail, read_csv_rows, save_figure  # noqa: E402
 
 
 def read_paths(path):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        fail(f"{path}: cannot open: {e.strerror}")
-    except (UnicodeDecodeError, csv.Error):
-        fail(f"{path}: not a text CSV (expected t,source,x,y,z from `earshot scene paths`)")
-    if not rows:
-        fail(f"{path}: no data rows")
-    for col in ("t", "source", "x", "y", "z"):
-        if col not in rows[0]:
-            fail(f"{path}: missing column '{col}'")
+    rows = read_csv_rows(path, ("t", "source", "x", "y", "z"), expected="t,source,x,y,z from `earshot scene paths`")
     sources = {}
     for i, r in enumerate(rows):
         try:
@@ -110,10 +93,7 @@ def main():
     t_end = max(p[-1, 0] for p in sources.values())
     fig.suptitle(a.title or f"{a.paths}: {len(sources)} sources, {t_end:g} s (o start, ^ end, dots every second)")
     fig.tight_layout(rect=(0, 0.07, 1, 0.94))
-    try:
-        fig.savefig(a.out, dpi=90)
-    except OSError as e:
-        fail(f"{a.out}: cannot write: {e.strerror}")
+    save_figure(fig, a.out, dpi=90)
 
 
 if __name__ == "__main__":

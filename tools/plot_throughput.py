@@ -11,30 +11,18 @@ one source for one 128-frame block in microseconds, for both renderers. Exit cod
 one-line message on bad input.
 """
 import argparse
-import csv
-import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+from plot_common import fail, read_csv_rows, save_figure  # noqa: E402
 
 BLOCK_US = 1e6 * 128 / 48000
 
 
-def fail(msg):
-    print(f"plot_throughput: error: {msg}", file=sys.stderr)
-    sys.exit(2)
-
-
 def read(path):
-    try:
-        with open(path, newline="") as f:
-            rows = list(csv.DictReader(f))
-    except OSError as e:
-        fail(f"{path}: cannot open: {e.strerror}")
-    if not rows:
-        fail(f"{path}: no data rows")
+    rows = read_csv_rows(path)
     out = []
     for i, r in enumerate(rows, start=2):
         try:
@@ -68,10 +56,7 @@ def main():
         ax.legend(fontsize=8)
     fig.suptitle(a.title)
     fig.tight_layout()
-    try:
-        fig.savefig(a.out, dpi=110)
-    except OSError as e:
-        fail(f"{a.out}: cannot write: {e.strerror}")
+    save_figure(fig, a.out, dpi=110)
 
 
 if __name__ == "__main__":

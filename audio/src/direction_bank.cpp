@@ -81,8 +81,10 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
       const std::size_t next = active_[k + 1];
       prefetch_lines(input_.data() + next * in_stride, 2 * B);
       const auto ne = static_cast<hrtf::Ear>(next & 1);
-      prefetch_lines(spectra_->head(next >> 1, ne).data(), spectra_->head(next >> 1, ne).size());
-      prefetch_lines(spectra_->tail(next >> 1, ne).data(), spectra_->tail(next >> 1, ne).size());
+      const auto head = spectra_->head(next >> 1, ne);
+      const auto tail = spectra_->tail(next >> 1, ne);
+      prefetch_lines(head.data(), head.size());
+      prefetch_lines(tail.data(), tail.size());
     }
     Lane& lane = lanes_[l];
     float* in = input_.data() + l * in_stride;

@@ -15,12 +15,12 @@
 // samples (a fixed latency callers add).
 //
 // A read whose delay does not move across the block runs as one fixed FIR
-// (vectorised across samples). A gliding read takes eight samples at a
-// time: their kernels mostly share a cell, so the three coefficient FIRs run
-// across the eight samples together and the quadratic combines them per
-// sample (AVX2 where the CPU has it); groups that span more than three
-// cells (a fast Doppler glide) compute one kernel per sample. Allocates at
-// construction only.
+// (vectorised across samples). A gliding read takes eight or sixteen
+// samples at a time: their kernels mostly share a cell, so the three
+// coefficient FIRs run across those samples together and the quadratic
+// combines them per sample (AVX2 where the CPU has it); groups of eight that
+// span more than three cells (a fast Doppler glide) compute one kernel per
+// sample. Allocates at construction only.
 #pragma once
 
 #include <algorithm>

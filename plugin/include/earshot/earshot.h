@@ -41,9 +41,10 @@
  * metres, seconds, Hz; angles of cones in degrees as OpenAL has them.
  *
  * Linking: link -learshot (pkg-config earshot, CMake find_package(earshot)),
- * or dlopen("libearshot.so.0") and call esGetProcTable(ES_ABI_VERSION): the
- * table holds every function below, and its version and size tell a host
- * whether the library it loaded is the one it was built against.
+ * or dlopen(ES_LIBRARY_SONAME) ("libearshot.so.1") and call
+ * esGetProcTable(ES_ABI_VERSION_MAJOR): the table holds every function
+ * below, and its abi_version and size tell a host whether the library it
+ * loaded is the one it was built against (docs/PLUGIN.md has an example).
  */
 #ifndef EARSHOT_EARSHOT_H
 #define EARSHOT_EARSHOT_H
@@ -67,6 +68,9 @@ extern "C" {
 #define ES_ABI_VERSION_MAJOR 1u
 #define ES_ABI_VERSION_MINOR 1u /* 1: esGetTrackerState */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
+/* The file name to dlopen: the soname, which changes with the major version
+ * (plugin/CMakeLists.txt reads both from this header, so they cannot drift). */
+#define ES_LIBRARY_SONAME "libearshot.so.1"
 
 typedef int32_t ESenum;
 typedef int32_t ESint;

@@ -215,7 +215,14 @@ int main(int argc, char **argv) {
     fprintf(stderr, "cannot read %s\n", argv[4]);
     return 1;
   }
-  const ESproctable *es = load(argv[2]);
+  /* Load the library the way earshot.h tells hosts to: by ES_LIBRARY_SONAME,
+   * here from the folder of the built file, so a header that names another
+   * soname than the build makes fails this test. */
+  char lib[4096];
+  const char *slash = strrchr(argv[2], '/');
+  int dir_len = slash ? (int)(slash - argv[2]) : 1;
+  snprintf(lib, sizeof lib, "%.*s/%s", dir_len, slash ? argv[2] : ".", ES_LIBRARY_SONAME);
+  const ESproctable *es = load(lib);
   if (!es || render_plugin(es)) return 1;
 
   double max_diff = 0.0, peak = 0.0, worst_ild = 0.0, worst_itd = 0.0;

@@ -49,8 +49,11 @@ void add_scene_commands(CLI::App& scene) {
       for (const auto& src : sc.sources) {
         const auto p = scenes::source_position(src, t);
         // Names are quoted CSV fields: they may hold commas.
-        std::string name = src.name;
-        for (std::size_t i = name.find('"'); i != std::string::npos; i = name.find('"', i + 2)) name.insert(i, "\"");
+        std::string name;
+        for (const char c : src.name) {
+          if (c == '"') name += '"';  // a quote inside a quoted field is doubled
+          name += c;
+        }
         out << t << ",\"" << name << "\"," << p[0] << ',' << p[1] << ',' << p[2] << '\n';
       }
     }

@@ -1,6 +1,7 @@
 #include "earshot/tracker/filters.hpp"
 
 #include <algorithm>
+#include <span>
 
 namespace earshot::tracker {
 
@@ -37,11 +38,16 @@ Pose MedianPoseFilter::filter(const Pose& p) {
   head_ = (head_ + 1) % 5;
   n_ = std::min(n_ + 1, 5);
   std::array<double, 5> v{};
+  const auto n = static_cast<std::size_t>(n_);
   auto median = [&](auto get) {
-    for (int i = 0; i < n_; ++i) v[static_cast<size_t>(i)] = get(ring_[static_cast<size_t>(i)]);
-    std::sort(v.begin(), v.begin() + n_);
-    return (n_ % 2) ? v[static_cast<size_t>(n_ / 2)]
-                    : 0.5 * (v[static_cast<size_t>(n_ / 2 - 1)] + v[static_cast<size_t>(n_ / 2)]);
+    const std::span<double> w(v.data(), n);
+    for (std::size_t i = 0; i < n; ++i) w[i] = get(ring_[i]);
+    // Middle element(s) by selection; a std::sort of a run of unknown length
+    // made g++ 12 warn (-Warray-bounds) on its unrolled insertion sort.
+    const auto mid = w.begin() + static_cast<std::ptrdiff_t>(n / 2);
+    std::nth_element(w.begin(), mid, w.end());
+    if (n % 2) return *mid;
+    return 0.5 * (*std::max_element(w.begin(), mid) + *mid);
   };
   Pose out;
   for (int a = 0; a < 3; ++a) out.t[a] = median([a](const Pose& q) { return q.t[a]; });

@@ -8,7 +8,7 @@ namespace earshot::scenes {
 VoiceSynth::VoiceSynth(const VoiceParams& p, double rate) : p_(p), rate_(rate) {
   tilt_.cutoff(1800.0, rate);  // the glottal pulse's falling spectrum
   if (p_.melody.empty()) p_.melody = {0};
-  if (p_.vowels.empty()) p_.vowels = "a";
+  if (p_.vowels.empty()) p_.vowels.push_back('a');
   f0_ = p_.pitch_hz * std::exp2(p_.melody[0] / 12.0);
   const auto f = synth::vowel_formants(p_.vowels[0]);
   formants_.jump({f.f1 * p_.formant_shift, f.f2 * p_.formant_shift, f.f3 * p_.formant_shift});

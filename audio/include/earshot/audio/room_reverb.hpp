@@ -47,6 +47,7 @@ class RoomReverb {
 
   [[nodiscard]] std::size_t block() const { return block_; }
   [[nodiscard]] const RoomParams& params() const { return params_; }
+  [[nodiscard]] LateReverbType late_type() const { return type_; }
 
  private:
   double rate_;

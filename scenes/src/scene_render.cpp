@@ -178,6 +178,10 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   std::vector<float> l(opt.block), r(opt.block), inter(2 * opt.block);
   std::size_t done = 0, next_report = 0;
   while (done < total) {
+    if (opt.stop && opt.stop()) {
+      stats.stopped = true;
+      break;  // `out` closes below: libsndfile writes the header's final sizes
+    }
     const double t = static_cast<double>(done) / rate;
     if (track) set_listener(world, track->at(t), track_origin, t);
     // Moving sources: the path's position at the block's start; the renderer

@@ -47,16 +47,10 @@ std::vector<std::uint32_t> distinct_directions(std::span<const Dir> dirs) {
   return keep;
 }
 
-/// Incremental convex hull of dirs[ids[*]], in indices into dirs. The points
-/// are jittered by a tiny amount first so that coplanar measurement rings are
-/// in general position; every point on the sphere is then a hull vertex.
-std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs, std::span<const std::uint32_t> ids) {
-  const std::size_t n = ids.size();
-  std::vector<V> p(n);
-  for (std::size_t i = 0; i < n; ++i) p[i] = dirs[ids[i]];
-
-  // Initial tetrahedron from four points far from coplanar (before the jitter,
-  // which would make any flat set look solid).
+/// Four points far from coplanar, and the fourth's distance from the plane
+/// of the first three (times twice their triangle's area).
+std::pair<std::array<std::uint32_t, 4>, double> initial_tetrahedron(const std::vector<V>& p) {
+  const auto n = static_cast<std::uint32_t>(p.size());
   std::uint32_t i0 = 0, i1 = 1;
   double best = 0;
   for (std::uint32_t i = 1; i < n; ++i)
@@ -72,10 +66,23 @@ std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs,
   best = 0;
   for (std::uint32_t i = 0; i < n; ++i)
     if (double d = std::abs(dot(n012, sub(p[i], p[i0]))); d > best) best = d, i3 = i;
-  if (best < 1e-9) throw std::invalid_argument("the measured directions lie in one plane");
+  return {{i0, i1, i2, i3}, best};
+}
+
+/// Incremental convex hull of dirs[ids[*]], in indices into dirs. The points
+/// are jittered by a tiny amount first so that coplanar measurement rings are
+/// in general position; every point on the sphere is then a hull vertex.
+std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs, std::span<const std::uint32_t> ids) {
+  const std::size_t n = ids.size();
+  std::vector<V> p(n);
+  for (std::size_t i = 0; i < n; ++i) p[i] = dirs[ids[i]];
+
+  // A flat set is refused before the jitter, which would make it look solid.
+  if (initial_tetrahedron(p).second < 1e-9) throw std::invalid_argument("the measured directions lie in one plane");
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> u(-1e-7, 1e-7);
   for (auto& x : p) x = {x[0] + u(rng), x[1] + u(rng), x[2] + u(rng)};
+  const auto [i0, i1, i2, i3] = initial_tetrahedron(p).first;
 
   std::vector<Face> faces;
   auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const V& inside) {

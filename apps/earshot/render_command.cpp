@@ -9,9 +9,9 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/stop_signals.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene_render.hpp"
+#include "earshot/stop_signals.hpp"
 
 namespace earshot::app {
 

@@ -210,6 +210,10 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
       next_report = done + total / 100 + 1;
     }
   }
+  // Closing writes the header's final sizes: a failure there (a full disk)
+  // would leave a WAV that claims no frames.
+  if (const int e = sf_close(out.release()); e != 0)
+    throw InputError::at(opt.out.string(), 0, "", std::string("write failed: ") + sf_error_number(e));
   stats.frames = done;
   return stats;
 }

@@ -15,6 +15,7 @@
 #include <fstream>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <variant>
 
@@ -22,6 +23,7 @@
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/scenes/scene_render.hpp"
+#include "earshot/stop_signals.hpp"
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/pose_track_writer.hpp"
 #include "earshot/tracker/sim_source.hpp"
@@ -169,7 +171,12 @@ void run_offline(const DemoArgs& a) {
   o.hrtf = a.hrtf;
   o.pose_track = poses;
   if (isatty(STDERR_FILENO)) o.progress = progress_bar;
+  const StopSignals stop;  // as `earshot render`: a signal leaves a valid, shorter WAV
+  o.stop = [&stop] { return stop.requested(); };
   const auto st = scenes::render_scene(scene, o);
+  if (st.stopped)
+    throw std::runtime_error("stopped by " + std::string(StopSignals::name(stop.signal())) + ": " + out.string() +
+                             " is a valid WAV of the first " + std::to_string(st.frames) + " frames only");
   std::printf("  audio   %s: %.1f s binaural at %.0f Hz, peak %.3f (HRTF %s)\n", out.c_str(),
               double(st.frames) / scene.sample_rate, scene.sample_rate, st.peak,
               a.hrtf.empty() ? "MIT KEMAR" : a.hrtf.c_str());

@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "earshot/errors.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene_render.hpp"
+#include "earshot/stop_signals.hpp"
 
 namespace earshot::app {
 
@@ -36,7 +38,9 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--scene,-s", a->scene,
                   "Scene JSON file, or a shipped preset's name (manual, circles, traffic, zoo, teleconference)")
       ->required();
-  cmd->add_option("--out,-o", a->out, "WAV file to write")->required();
+  cmd->add_option("--out,-o", a->out,
+                  "WAV file to write (stopped by SIGINT, SIGTERM or SIGHUP: the frames so far, a valid WAV; exit 1)")
+      ->required();
   cmd->add_option("--duration", a->duration, "Seconds (default: the scene's duration_s)");
   cmd->add_option("--rate", a->rate, "Sample rate, Hz (default: the scene's sample_rate)");
   cmd->add_option("--block", a->block, "Frames per block")->capture_default_str();
@@ -44,7 +48,9 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--pose-track", a->pose_track, "Pose track CSV for the listener (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
   cmd->add_option("--format", a->format, "Sample format: float (32-bit) or pcm24")->capture_default_str();
   cmd->callback([a] {
+    const StopSignals stop;  // first: a signal while loading stops before the first block
     scenes::RenderOptions o;
+    o.stop = [&stop] { return stop.requested(); };
     o.out = a->out;
     if (a->duration >= 0) o.duration_s = a->duration;
     if (a->rate > 0) o.sample_rate = a->rate;
@@ -60,6 +66,11 @@ void add_render_command(CLI::App& app) {
     if (isatty(STDERR_FILENO)) o.progress = progress_bar;
     const auto scene = scenes::load_scene(scenes::resolve_scene_argument(a->scene));
     const auto st = scenes::render_scene(scene, o);
+    if (st.stopped) {
+      if (o.progress) std::fputc('\n', stderr);
+      throw std::runtime_error("stopped by " + std::string(StopSignals::name(stop.signal())) + ": " + a->out +
+                               " is a valid WAV of the first " + std::to_string(st.frames) + " frames only");
+    }
     std::printf("wrote %s: %zu frames, %zu sources, peak %.3f\n", a->out.c_str(), st.frames, scene.sources.size(),
                 st.peak);
   });

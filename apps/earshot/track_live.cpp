@@ -6,10 +6,8 @@
 // source's raw dots as a Dots CSV for `track solve` or `--source replay:`.
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <memory>
@@ -19,6 +17,7 @@
 
 #include "earshot/errors.hpp"
 #include "earshot/pose_slot.hpp"
+#include "earshot/stop_signals.hpp"
 #include "earshot/tracker/led_model.hpp"
 #include "earshot/tracker/live_tracker.hpp"
 #include "earshot/tracker/opentrack_packet.hpp"
@@ -34,16 +33,11 @@ namespace {
 using namespace earshot::tracker;
 using clock = std::chrono::steady_clock;
 
-// The one flag a signal handler may set: Ctrl-C ends the run cleanly, so a
-// recording is flushed and closed.
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
-
 struct LiveOptions {
   std::string source = "wiimote";
   std::string record;
   std::string out;
-  double duration_s = 0.0;  // 0: until Ctrl-C or the source ends
+  double duration_s = 0.0;  // 0: until Ctrl-C (or SIGTERM, SIGHUP) or the source ends
   bool fast = false;
   double focal = 1280.0;
   std::string model_path;
@@ -129,18 +123,21 @@ void run_live(const LiveOptions& o) {
   if (!o.model_path.empty()) cfg.model = load_led_model(o.model_path);
   PoseSlot slot;
   const bool tty = ::isatty(::fileno(stdout)) != 0;
-  g_interrupted = false;
-  std::signal(SIGINT, on_sigint);
+  // SIGINT, SIGTERM and SIGHUP end the loop below; the tracker thread is then
+  // joined, so the last row is whole, and the file is flushed and closed.
+  const StopSignals stop;
   LiveTracker::Status st;
   std::string last_note;
+  std::uint64_t rows = 0;  // written by the tracker thread; read after it is joined
   {
-    LiveTracker tracker(make_source(o, false), slot, cfg,
-                        [&writer](const HeadPose& p) { if (writer) writer->write(p); });
+    LiveTracker tracker(make_source(o, false), slot, cfg, [&writer, &rows](const HeadPose& p) {
+      if (writer && writer->write(p)) ++rows;
+    });
     std::fprintf(stderr, "earshot: tracking from %s%s\n", tracker.status().source.c_str(),
                  tty ? " (Ctrl-C to stop)" : "");
     const auto start = clock::now();
     const auto period = std::chrono::milliseconds(tty ? 50 : 100);
-    while (tracker.running() && !g_interrupted.load()) {
+    while (tracker.running() && !stop.requested()) {
       std::this_thread::sleep_for(period);
       if (o.duration_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= o.duration_s) break;
       st = tracker.status();
@@ -157,11 +154,13 @@ void run_live(const LiveOptions& o) {
     tracker.stop();
     st = tracker.status();
   }
-  std::signal(SIGINT, SIG_DFL);
   if (tty) std::fprintf(stdout, "\n");
+  if (stop.requested()) std::fprintf(stderr, "earshot: stopped by %s\n", StopSignals::name(stop.signal()));
   if (writer) {
-    file.flush();
+    file.close();
     if (!file) throw InputError::at(o.record, 0, "", "write failed");
+    std::fprintf(stderr, "earshot: recorded %llu poses to %s\n", static_cast<unsigned long long>(rows),
+                 o.record.c_str());
   }
   if (!st.error.empty()) throw std::runtime_error(st.source + ": " + st.error);
   std::fprintf(stderr, "earshot: %llu frames, %llu poses published, %llu malformed inputs dropped, %llu impossible dots rejected\n",
@@ -174,11 +173,10 @@ void run_record(const LiveOptions& o) {
   std::ofstream file(o.out);
   if (!file) throw InputError::at(o.out, 0, "", "cannot create file");
   DotsCsvWriter writer(file, false);
-  g_interrupted = false;
-  std::signal(SIGINT, on_sigint);
+  const StopSignals stop;  // as in run_live: a signal ends the loop between frames
   const auto start = clock::now();
   long frames = 0;
-  while (!g_interrupted.load()) {
+  while (!stop.requested()) {
     if (o.duration_s > 0 && std::chrono::duration<double>(clock::now() - start).count() >= o.duration_s) break;
     const SourceEvent e = source->next(std::chrono::milliseconds(50));
     if (const auto* f = std::get_if<CameraFrame>(&e)) {
@@ -189,15 +187,16 @@ void run_record(const LiveOptions& o) {
       if (!n->message.empty()) std::fprintf(stderr, "earshot: %s\n", n->message.c_str());
     }
   }
-  std::signal(SIGINT, SIG_DFL);
-  file.flush();
+  if (stop.requested()) std::fprintf(stderr, "earshot: stopped by %s\n", StopSignals::name(stop.signal()));
+  file.close();
   if (!file) throw InputError::at(o.out, 0, "", "write failed");
   std::fprintf(stderr, "earshot: recorded %ld frames from %s to %s (%llu malformed reports dropped)\n", frames,
                source->describe().c_str(), o.out.c_str(), static_cast<unsigned long long>(source->dropped()));
 }
 
 void add_common(CLI::App& cmd, LiveOptions& o) {
-  cmd.add_option("--duration", o.duration_s, "Stop after this many seconds (default: until Ctrl-C or the source ends)")
+  cmd.add_option("--duration", o.duration_s,
+                 "Stop after this many seconds (default: until Ctrl-C, SIGTERM or SIGHUP, or the source ends)")
       ->check(CLI::NonNegativeNumber);
   cmd.add_flag("--fast", o.fast, "sim and replay: as fast as possible instead of in real time");
   cmd.add_option("--focal", o.focal, "Camera focal length in pixels (1024x768 image)")->capture_default_str()->check(CLI::PositiveNumber);

@@ -33,17 +33,24 @@ Face make_face(const std::vector<V>& p, std::uint32_t a, std::uint32_t b, std::u
   return f;
 }
 
-/// Incremental convex hull. The points are jittered by a tiny amount first
-/// so that coplanar measurement rings are in general position; every input
-/// point on the sphere is then a hull vertex.
-std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs) {
-  const std::size_t n = dirs.size();
-  std::vector<V> p(n);
-  std::mt19937_64 rng(12345);
-  std::uniform_real_distribution<double> u(-1e-7, 1e-7);
-  for (std::size_t i = 0; i < n; ++i) p[i] = {dirs[i][0] + u(rng), dirs[i][1] + u(rng), dirs[i][2] + u(rng)};
+/// The index of each direction's first occurrence, in order: a direction
+/// measured twice (within ~1e-6 rad) is triangulated once.
+std::vector<std::uint32_t> distinct_directions(std::span<const Dir> dirs) {
+  std::vector<std::uint32_t> keep;
+  for (std::uint32_t i = 0; i < dirs.size(); ++i) {
+    const bool repeat = std::any_of(keep.begin(), keep.end(), [&](std::uint32_t k) {
+      const V d = sub(dirs[i], dirs[k]);
+      return dot(d, d) < 1e-12;
+    });
+    if (!repeat) keep.push_back(i);
+  }
+  return keep;
+}
 
-  // Initial tetrahedron from four points far from coplanar.
+/// Four points far from coplanar, and the fourth's distance from the plane
+/// of the first three (times twice their triangle's area).
+std::pair<std::array<std::uint32_t, 4>, double> initial_tetrahedron(const std::vector<V>& p) {
+  const auto n = static_cast<std::uint32_t>(p.size());
   std::uint32_t i0 = 0, i1 = 1;
   double best = 0;
   for (std::uint32_t i = 1; i < n; ++i)
@@ -59,7 +66,23 @@ std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs)
   best = 0;
   for (std::uint32_t i = 0; i < n; ++i)
     if (double d = std::abs(dot(n012, sub(p[i], p[i0]))); d > best) best = d, i3 = i;
-  if (best < 1e-9) throw std::invalid_argument("measured directions lie in one plane");
+  return {{i0, i1, i2, i3}, best};
+}
+
+/// Incremental convex hull of dirs[ids[*]], in indices into dirs. The points
+/// are jittered by a tiny amount first so that coplanar measurement rings are
+/// in general position; every point on the sphere is then a hull vertex.
+std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs, std::span<const std::uint32_t> ids) {
+  const std::size_t n = ids.size();
+  std::vector<V> p(n);
+  for (std::size_t i = 0; i < n; ++i) p[i] = dirs[ids[i]];
+
+  // A flat set is refused before the jitter, which would make it look solid.
+  if (initial_tetrahedron(p).second < 1e-9) throw std::invalid_argument("the measured directions lie in one plane");
+  std::mt19937_64 rng(12345);
+  std::uniform_real_distribution<double> u(-1e-7, 1e-7);
+  for (auto& x : p) x = {x[0] + u(rng), x[1] + u(rng), x[2] + u(rng)};
+  const auto [i0, i1, i2, i3] = initial_tetrahedron(p).first;
 
   std::vector<Face> faces;
   auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c, const V& inside) {
@@ -97,15 +120,16 @@ std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs)
     std::erase_if(faces, [](const Face& f) { return !f.alive; });
   }
   std::vector<std::array<std::uint32_t, 3>> out;
-  for (const auto& f : faces) out.push_back(f.v);
+  for (const auto& f : faces) out.push_back({ids[f.v[0]], ids[f.v[1]], ids[f.v[2]]});
   return out;
 }
 
 }  // namespace
 
 SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
-  if (dirs.size() < 4) throw std::invalid_argument("need at least four measured directions");
-  for (const auto& t : convex_hull(dirs)) {
+  const auto ids = distinct_directions(dirs);
+  if (ids.size() < 4) throw std::invalid_argument("need at least four different measured directions");
+  for (const auto& t : convex_hull(dirs, ids)) {
     Triangle tri{t, {}};
     // Inverse of the 3x3 matrix whose columns are the three directions.
     const V& a = dirs[t[0]];
@@ -113,6 +137,13 @@ SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
     const V& c = dirs[t[2]];
     const V r0 = cross(b, c), r1 = cross(c, a), r2 = cross(a, b);
     const double det = dot(a, r0);
+    // det is twice the face's area times its distance from the centre: a face
+    // through the centre (or beyond) leaves the directions behind it with no
+    // triangle of non-negative weights.
+    const V n = cross(sub(b, a), sub(c, a));
+    if (det <= 1e-6 * std::sqrt(dot(n, n)))
+      throw std::invalid_argument(
+          "the measured directions all lie within one hemisphere: the other side has no measurements around it");
     if (std::abs(det) < 1e-15) continue;  // degenerate sliver
     for (int k = 0; k < 3; ++k) {
       tri.inv[static_cast<std::size_t>(k)] = r0[static_cast<std::size_t>(k)] / det;

@@ -178,6 +178,10 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
   std::vector<float> l(opt.block), r(opt.block), inter(2 * opt.block);
   std::size_t done = 0, next_report = 0;
   while (done < total) {
+    if (opt.stop && opt.stop()) {
+      stats.stopped = true;
+      break;  // `out` closes below: libsndfile writes the header's final sizes
+    }
     const double t = static_cast<double>(done) / rate;
     if (track) set_listener(world, track->at(t), track_origin, t);
     // Moving sources: the path's position at the block's start; the renderer
@@ -206,6 +210,10 @@ RenderStats render_scene(const Scene& scene, const RenderOptions& opt) {
       next_report = done + total / 100 + 1;
     }
   }
+  // Closing writes the header's final sizes: a failure there (a full disk)
+  // would leave a WAV that claims no frames.
+  if (const int e = sf_close(out.release()); e != 0)
+    throw InputError::at(opt.out.string(), 0, "", std::string("write failed: ") + sf_error_number(e));
   stats.frames = done;
   return stats;
 }

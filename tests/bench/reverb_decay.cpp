@@ -75,12 +75,12 @@ struct Result {
 
 Result measure(const Ir& ir, const audio::RoomParams& p) {
   Result r;
-  r.t500 = bench::band_rt60(ir.left, ir.right, bench::octave(500.0), kFs);
-  r.t1k = bench::band_rt60(ir.left, ir.right, bench::octave(1000.0), kFs);
+  r.t500 = analysis::band_rt60(ir.left, ir.right, analysis::octave(500.0), kFs);
+  r.t1k = analysis::band_rt60(ir.left, ir.right, analysis::octave(1000.0), kFs);
   r.hf_measurable = p.decay_time_s * p.decay_hf_ratio >= 0.1;
-  const auto thf = bench::band_rt60(ir.left, ir.right, bench::third_octave(p.hf_reference_hz), kFs);
+  const auto thf = analysis::band_rt60(ir.left, ir.right, analysis::third_octave(p.hf_reference_hz), kFs);
   if (r.t500 && r.t1k && thf) r.ratio = *thf / (0.5 * (*r.t500 + *r.t1k));
-  r.ed_time = bench::echo_density_time(ir.left, kFs);
+  r.ed_time = analysis::echo_density_time(ir.left, kFs);
   return r;
 }
 

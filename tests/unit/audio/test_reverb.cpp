@@ -1,6 +1,8 @@
 // Room reverbs: decay times, levels, stereo decorrelation, stability of
 // every preset, no allocation in process(), clear errors for bad presets and
-// parameters, and the room's wiring (renderer send/return, Scene JSON). RT60s are measured as tests/bench/reverb_decay does (T30).
+// parameters, and the room's wiring (renderer send/return; the Scene JSON
+// side is in tests/unit/scenes/test_scene_json.cpp). RT60s are measured as
+// tests/bench/reverb_decay does (T30, tests/analysis/reverb_measure.hpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,11 +18,10 @@
 #include "earshot/audio/room_reverb.hpp"
 #include "earshot/errors.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
-#include "earshot/scenes/scene.hpp"
-#include "reverb_measure.hpp"
+#include "reverb_measure.hpp"  // tests/analysis
 
 using namespace earshot::audio;
-namespace bench = earshot::bench;
+namespace analysis = earshot::analysis;
 
 namespace {
 constexpr double kFs = 48000.0;
@@ -131,9 +132,9 @@ TEST(RoomReverb, DecayTimesMeetTheirTargets) {
     RoomParams p = room_preset(c.preset);
     p.gain_hf = 1.0;  // the high band must carry signal to be measured
     const auto ir = impulse_response(p, c.type, 1.4 * p.decay_time_s + 0.3);
-    const auto t500 = bench::band_rt60(ir.left, ir.right, bench::octave(500), kFs);
-    const auto t1k = bench::band_rt60(ir.left, ir.right, bench::octave(1000), kFs);
-    const auto thf = bench::band_rt60(ir.left, ir.right, bench::third_octave(p.hf_reference_hz), kFs);
+    const auto t500 = analysis::band_rt60(ir.left, ir.right, analysis::octave(500), kFs);
+    const auto t1k = analysis::band_rt60(ir.left, ir.right, analysis::octave(1000), kFs);
+    const auto thf = analysis::band_rt60(ir.left, ir.right, analysis::third_octave(p.hf_reference_hz), kFs);
     ASSERT_TRUE(t500 && t1k && thf);
     EXPECT_NEAR(*t500 / p.decay_time_s, 1.0, 0.05);
     EXPECT_NEAR(*t1k / p.decay_time_s, 1.0, 0.05);
@@ -147,8 +148,8 @@ TEST(RoomReverb, LongerDecayTimeRingsLonger) {
   const auto a = impulse_response(p, LateReverbType::fdn, 1.0);
   p.decay_time_s = 2.0;
   const auto b = impulse_response(p, LateReverbType::fdn, 3.0);
-  const auto ta = bench::band_rt60(a.left, a.right, bench::octave(1000), kFs);
-  const auto tb = bench::band_rt60(b.left, b.right, bench::octave(1000), kFs);
+  const auto ta = analysis::band_rt60(a.left, a.right, analysis::octave(1000), kFs);
+  const auto tb = analysis::band_rt60(b.left, b.right, analysis::octave(1000), kFs);
   ASSERT_TRUE(ta && tb);
   EXPECT_GT(*tb, 3.5 * *ta);
 }
@@ -159,14 +160,14 @@ TEST(RoomReverb, EarsAreDecorrelated) {
     const auto ir = impulse_response(room_preset("concert-hall"), type, 2.0);
     // The tail after the early reflections.
     const auto from = static_cast<std::size_t>(0.1 * kFs);
-    const auto ic = bench::interaural_coherence(std::span(ir.left).subspan(from), std::span(ir.right).subspan(from), kFs);
+    const auto ic = analysis::interaural_coherence(std::span(ir.left).subspan(from), std::span(ir.right).subspan(from), kFs);
     EXPECT_LT(ic, 0.2);
   }
 }
 
 TEST(RoomReverb, FdnEchoDensityBuildsUpWithin100ms) {
   const auto ir = impulse_response(room_preset("concert-hall"), LateReverbType::fdn, 1.0);
-  const auto t = bench::echo_density_time(ir.left, kFs);
+  const auto t = analysis::echo_density_time(ir.left, kFs);
   ASSERT_TRUE(t);
   EXPECT_LE(*t, 0.1);
 }
@@ -272,25 +273,6 @@ TEST(RoomReverb, RendererSendAndReturn) {
   }
   EXPECT_EQ(tail[0], 0.0);
   EXPECT_GT(tail[1], 1e-4);
-}
-
-TEST(SceneJson, RoomTakesPresetNamesAndReverbItsType) {
-  using earshot::scenes::parse_scene;
-  const auto s = parse_scene(R"({"room": "concert-hall", "reverb": "schroeder", "sources": []})", "s.json");
-  EXPECT_EQ(s.room, "concert-hall");
-  EXPECT_EQ(s.reverb, "schroeder");
-  EXPECT_EQ(parse_scene(R"({"room": "generic", "sources": []})", "s.json").reverb, "fdn");
-  try {
-    (void)parse_scene(R"({"room": "concert_hall", "sources": []})", "s.json");
-    FAIL() << "no error";
-  } catch (const earshot::InputError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("s.json"), std::string::npos) << what;
-    EXPECT_NE(what.find("'room'"), std::string::npos) << what;
-    EXPECT_NE(what.find("stone-corridor"), std::string::npos) << what;
-  }
-  EXPECT_THROW((void)parse_scene(R"({"room": "generic", "reverb": "moorer", "sources": []})", "s.json"),
-               earshot::InputError);
 }
 
 // The corners of the parameter ranges, beyond what any preset asks.

@@ -109,6 +109,25 @@ TEST(SceneJson, DescriptionIsFreeText) {
             "s.json: field 'description': expected a string, got 3");
 }
 
+// (Moved here from the reverb tests: it is about the scene parser.)
+TEST(SceneJson, RoomTakesPresetNamesAndReverbItsType) {
+  const auto s = parse_scene(R"({"room": "concert-hall", "reverb": "schroeder", "sources": []})", "s.json");
+  EXPECT_EQ(s.room, "concert-hall");
+  EXPECT_EQ(s.reverb, "schroeder");
+  EXPECT_EQ(parse_scene(R"({"room": "generic", "sources": []})", "s.json").reverb, "fdn");
+  try {
+    (void)parse_scene(R"({"room": "concert_hall", "sources": []})", "s.json");
+    FAIL() << "no error";
+  } catch (const earshot::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("s.json"), std::string::npos) << what;
+    EXPECT_NE(what.find("'room'"), std::string::npos) << what;
+    EXPECT_NE(what.find("stone-corridor"), std::string::npos) << what;
+  }
+  EXPECT_THROW((void)parse_scene(R"({"room": "generic", "reverb": "moorer", "sources": []})", "s.json"),
+               earshot::InputError);
+}
+
 // render_scene goes through the plugin's C API; what the plugin refuses still
 // reaches the user as one InputError naming the file or field.
 TEST(SceneRender, PluginPathReportsBadInputByName) {

@@ -30,13 +30,35 @@ std::unique_ptr<FrameSource> sim(long frames, Pacing pacing = Pacing::as_fast_as
 
 }  // namespace
 
+// An endless real-time source: only stop() or the destructor ends the thread.
+// Started means it publishes; stopped means running() is false, the status
+// says so without an error, and nothing is published after stop() returns;
+// every publication reached the callback. A thread that never stops hangs
+// the test (ctest's timeout), one that never starts spins below.
 TEST(LiveTrackerThread, StartsAndStopsCleanly) {
-  PoseSlot slot;
   for (int i = 0; i < 5; ++i) {
-    LiveTracker t(sim(-1, Pacing::real_time), slot);  // an endless source: only stop() ends it
-    if (i % 2) t.stop();
-  }  // destructor requests stop and joins
-  SUCCEED();
+    PoseSlot slot;
+    std::atomic<std::uint64_t> calls{0};
+    {
+      LiveTracker t(sim(-1, Pacing::real_time), slot, LiveConfig{}, [&](const HeadPose&) { calls.fetch_add(1); });
+      EXPECT_TRUE(t.running());
+      while (slot.load().sequence < 3) std::this_thread::yield();  // started: poses arrive
+      if (i % 2) {
+        t.stop();
+        EXPECT_FALSE(t.running());
+        const auto st = t.status();
+        EXPECT_FALSE(st.running);
+        EXPECT_TRUE(st.error.empty()) << st.error;
+        EXPECT_GE(st.frames, 3u);
+        const std::uint64_t last = slot.load().sequence;
+        t.stop();  // idempotent
+        std::this_thread::yield();
+        EXPECT_EQ(slot.load().sequence, last) << "a pose published after stop()";
+      }
+    }  // the destructor requests stop and joins
+    EXPECT_GE(slot.load().sequence, 3u);
+    EXPECT_EQ(calls.load(), slot.load().sequence) << "a publication that missed the callback";
+  }
 }
 
 TEST(LiveTrackerThread, PublishesEveryPoseWhileReadersRead) {

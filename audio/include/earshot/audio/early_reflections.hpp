@@ -2,8 +2,9 @@
 // sits at the preset's reflections delay; eight taps follow over ~20 ms
 // (shorter for less dense rooms), alternately stronger left and right with
 // alternating signs, so the two ears get different, uncorrelated patterns.
-// The taps' energies add up to reflections_gain^2 (a unit impulse in gives
-// out reflections_gain^2 of energy per ear). Allocates at construction only.
+// The taps' energies, both ears together, add up to reflections_gain^2 (a
+// unit impulse in gives out reflections_gain^2 of energy, about half in each
+// ear). Allocates at construction only.
 #pragma once
 
 #include <array>

@@ -22,8 +22,11 @@ struct Blend {
 
 class SphereTriangulation {
  public:
-  /// Builds the hull of `dirs` (unit vectors, at least 4, not all in one
-  /// plane through the origin). Throws std::invalid_argument otherwise.
+  /// Builds the hull of `dirs` (unit vectors). A direction given twice is
+  /// triangulated once: locate() names the first. Throws
+  /// std::invalid_argument when fewer than four differ, when they lie in one
+  /// plane (a ring), or within one hemisphere (the hull must surround the
+  /// centre, or the far side would have no triangle to blend).
   explicit SphereTriangulation(std::span<const Dir> dirs);
 
   /// Weights of the triangle the ray through `d` crosses. No allocation.

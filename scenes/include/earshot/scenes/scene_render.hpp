@@ -22,11 +22,15 @@ struct RenderOptions {
   WavFormat format = WavFormat::float32;
   /// Called now and then with the fraction done (0..1).
   std::function<void(double)> progress;
+  /// Asked before each block; true ends the render there (e.g. on SIGTERM):
+  /// the WAV is closed with the frames rendered so far, its header complete.
+  std::function<bool()> stop;
 };
 
 struct RenderStats {
-  std::size_t frames = 0;
-  double peak = 0.0;  ///< largest absolute sample written
+  std::size_t frames = 0;  ///< frames in the WAV
+  double peak = 0.0;       ///< largest absolute sample written
+  bool stopped = false;    ///< `stop` ended the render before the duration
 };
 
 /// Throws earshot::InputError for bad input (scene, HRTF, pose track, output).

@@ -6,7 +6,7 @@
 
 #include "earshot/audio/biquad.hpp"
 
-namespace earshot::bench {
+namespace earshot::analysis {
 using audio::Biquad;
 
 Band octave(double fc) { return {fc / std::numbers::sqrt2, fc * std::numbers::sqrt2, 4}; }
@@ -140,4 +140,4 @@ double interaural_coherence(std::span<const float> left, std::span<const float> 
   return best;
 }
 
-}  // namespace earshot::bench
+}  // namespace earshot::analysis

@@ -1,5 +1,5 @@
 // Measurements of a reverb's impulse response (tests/bench/reverb_decay and
-// the reverb unit tests):
+// the reverb unit tests, tests/unit/audio/test_reverb.cpp):
 //  - band_rt60: RT60 in a band by Schroeder backward integration, T30 (line
 //    fit of the energy decay curve between -5 and -35 dB, times 2);
 //  - echo density profile after Abel & Huang (2006): in a sliding 20 ms Hann
@@ -12,7 +12,7 @@
 #include <span>
 #include <vector>
 
-namespace earshot::bench {
+namespace earshot::analysis {
 
 struct Band {
   double low_hz, high_hz;
@@ -43,4 +43,4 @@ struct Band {
 /// Largest |normalised cross-correlation| of left and right within +-1 ms.
 [[nodiscard]] double interaural_coherence(std::span<const float> left, std::span<const float> right, double fs);
 
-}  // namespace earshot::bench
+}  // namespace earshot::analysis

@@ -12,13 +12,13 @@ namespace earshot::host {
 /// Throws for a plugin error code: bad input (ES_INVALID_VALUE,
 /// ES_HRTF_ERROR) as earshot::InputError(message), anything else -- a bug in
 /// the host -- as std::runtime_error "message (<error string>)".
-[[noreturn]] void raise(ESenum e, const std::string& message);
+[[noreturn]] void throw_plugin_error(ESenum e, const std::string& message);
 
 /// One plugin world, destroyed on every way out. Its calls must come from
 /// the thread that made it (the control thread), except esRender.
 class WorldHandle {
  public:
-  /// Throws (raise) with the plugin's reason, e.g. "x.sofa: not a SOFA file".
+  /// Throws (throw_plugin_error) with the plugin's reason, e.g. "x.sofa: not a SOFA file".
   explicit WorldHandle(const ESworldparams& p);
   ~WorldHandle();
   WorldHandle(const WorldHandle&) = delete;

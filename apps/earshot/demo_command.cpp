@@ -20,9 +20,10 @@
 #include <variant>
 
 #include "earshot/errors.hpp"
+#include "earshot/host/rooms.hpp"
+#include "earshot/host/scene_render.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
-#include "earshot/scenes/scene_render.hpp"
 #include "earshot/stop_signals.hpp"
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/pose_track_writer.hpp"
@@ -150,10 +151,7 @@ void run_demo(const DemoArgs& a) {
 void run_offline(const DemoArgs& a) {
   const auto scene_file = scenes::resolve_scene_argument(a.scene);
   scenes::Scene scene = scenes::load_scene(scene_file);
-  if (!a.room.empty()) {
-    // The scene parser checks preset names: give it the override to check.
-    scene.room = scenes::parse_scene(R"({"room": ")" + a.room + R"(", "sources": []})", "--room").room;
-  }
+  if (!a.room.empty()) scene.room = host::checked_room(a.room, "--room");
   const double duration = a.duration > 0 ? a.duration : scene.duration_s;
   std::filesystem::path out(a.out), poses = out;
   poses.replace_extension(".poses.csv");
@@ -165,7 +163,7 @@ void run_offline(const DemoArgs& a) {
   std::printf("  tracker %s: %ld frames, %.1f%% tracked, head yaw %+.0f to %+.0f deg -> %s\n", a.tracker.c_str(),
               head.frames, head.frames ? 100.0 * double(head.tracked) / double(head.frames) : 0.0, head.yaw_min,
               head.yaw_max, poses.c_str());
-  scenes::RenderOptions o;
+  host::RenderOptions o;
   o.out = out;
   o.duration_s = duration;
   o.hrtf = a.hrtf;
@@ -173,7 +171,7 @@ void run_offline(const DemoArgs& a) {
   if (isatty(STDERR_FILENO)) o.progress = progress_bar;
   const StopSignals stop;  // as `earshot render`: a signal leaves a valid, shorter WAV
   o.stop = [&stop] { return stop.requested(); };
-  const auto st = scenes::render_scene(scene, o);
+  const auto st = host::render_scene(scene, o);
   if (st.stopped)
     throw std::runtime_error("stopped by " + std::string(StopSignals::name(stop.signal())) + ": " + out.string() +
                              " is a valid WAV of the first " + std::to_string(st.frames) + " frames only");

@@ -9,8 +9,8 @@
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "earshot/host/scene_render.hpp"
 #include "earshot/scenes/presets.hpp"
-#include "earshot/scenes/scene_render.hpp"
 #include "earshot/stop_signals.hpp"
 
 namespace earshot::app {
@@ -49,7 +49,7 @@ void add_render_command(CLI::App& app) {
   cmd->add_option("--format", a->format, "Sample format: float (32-bit) or pcm24")->capture_default_str();
   cmd->callback([a] {
     const StopSignals stop;  // first: a signal while loading stops before the first block
-    scenes::RenderOptions o;
+    host::RenderOptions o;
     o.stop = [&stop] { return stop.requested(); };
     o.out = a->out;
     if (a->duration >= 0) o.duration_s = a->duration;
@@ -58,14 +58,14 @@ void add_render_command(CLI::App& app) {
     o.hrtf = a->hrtf;
     if (!a->pose_track.empty()) o.pose_track = a->pose_track;
     if (a->format == "float")
-      o.format = scenes::WavFormat::float32;
+      o.format = host::WavFormat::float32;
     else if (a->format == "pcm24")
-      o.format = scenes::WavFormat::pcm24;
+      o.format = host::WavFormat::pcm24;
     else
       throw InputError::at("--format", 0, "", "unknown format '" + a->format + "' (float, pcm24)");
     if (isatty(STDERR_FILENO)) o.progress = progress_bar;
     const auto scene = scenes::load_scene(scenes::resolve_scene_argument(a->scene));
-    const auto st = scenes::render_scene(scene, o);
+    const auto st = host::render_scene(scene, o);
     if (st.stopped) {
       if (o.progress) std::fputc('\n', stderr);
       throw std::runtime_error("stopped by " + std::string(StopSignals::name(stop.signal())) + ": " + a->out +

@@ -35,9 +35,9 @@
 
 #include "binaural_cues.hpp"
 #include "earshot/audio/renderer.hpp"
+#include "earshot/host/scene_render.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/scenes/scene.hpp"
-#include "earshot/scenes/scene_render.hpp"
 #include "earshot/scenes/signal_source.hpp"
 
 namespace fs = std::filesystem;
@@ -138,11 +138,11 @@ std::vector<Segment> measure_elevation(const Args& a, const hrtf::HrtfSet& set, 
       << "   \"position\": [0, " << kDistance * std::sin(el * kDeg) << ", " << -kDistance * std::cos(el * kDeg)
       << "], \"gain_db\": 0, \"distance_model\": \"none\"}]}\n";
   }
-  scenes::RenderOptions o;
+  host::RenderOptions o;
   o.out = wav;
   o.hrtf = a.hrtf;
   o.pose_track = track;
-  scenes::render_scene(scenes::load_scene(scene_file), o);
+  host::render_scene(scenes::load_scene(scene_file), o);
   std::vector<float> right;
   const std::vector<float> left = read_wav(wav, right);
 

@@ -2,7 +2,9 @@
 // `earshot demo` in real time: a scene played through PortAudio by the
 // plugin's esRender on the audio thread, sources fed by callback sources
 // (the scenes' generators), moved along their paths on the control thread,
-// the head turned by a tracker attached to the world (its own thread).
+// the head turned by a tracker attached to the world (its own thread). The
+// scene-to-plugin work is the host layer's (host/, via live_session.hpp);
+// the demo adds the device, the window, the keys and the status line.
 #include <filesystem>
 #include <string>
 
@@ -13,7 +15,7 @@ struct LiveOptions {
   unsigned long buffer = 128;
   double duration = -1;                 ///< seconds; <= 0: until 'q' / Ctrl-C
   std::filesystem::path capture;        ///< WAV of what the callback wrote
-  std::filesystem::path capture_poses;  ///< CSV: t, yaw (deg), per control tick
+  std::filesystem::path capture_poses;  ///< CSV: t, yaw (deg), per control tick, written as it goes
   bool list_devices = false;
   bool window = true;                   ///< open the window when there is a display
   std::filesystem::path screenshot;     ///< window: PNG of the last frame

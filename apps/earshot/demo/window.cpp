@@ -154,6 +154,111 @@ DemoWindow::~DemoWindow() {
   glfwTerminate();
 }
 
+namespace {
+
+/// No remote, disconnected: said in a banner so nobody misses it.
+void tracker_banner(const WindowModel& m) {
+  ImGui::PushStyleColor(ImGuiCol_ChildBg, ImVec4(0.45f, 0.12f, 0.08f, 1));
+  ImGui::BeginChild("banner", ImVec2(0, 58), true);
+  ImGui::SetWindowFontScale(1.4f);
+  ImGui::TextColored(ImVec4(1, 0.85f, 0.6f, 1), "Tracker %s: %s", m.tracker.c_str(), m.tracker_state.c_str());
+  ImGui::SetWindowFontScale(1.0f);
+  ImGui::TextWrapped("%s", m.tracker_message.c_str());
+  ImGui::EndChild();
+  ImGui::PopStyleColor();
+}
+
+/// The window's keys (keys.hpp); not while a file name is typed.
+void read_keys(WindowActions& a) {
+  if (ImGui::GetIO().WantTextInput) return;
+  if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) a.recenter = true;
+  if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) a.next_scene = true;
+  if (ImGui::IsKeyPressed(GLFW_KEY_M, false)) a.next_room = true;
+  if (ImGui::IsKeyPressed(GLFW_KEY_Q, false) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) a.quit = true;
+}
+
+void tracker_column(const WindowModel& m) {
+  ImGui::TextUnformatted("Tracker");
+  ImGui::SameLine();
+  ImGui::TextColored(state_colour(m.tracker_state), "%s", m.tracker_state.c_str());
+  ImGui::SameLine();
+  ImGui::TextDisabled("(%s)", m.tracker.c_str());
+  const V3 f = rotate(m.head_orientation, {0, 0, -1});
+  ImGui::Text("%.0f frames/s   %llu frames   yaw %+.1f deg", double(m.tracker_rate), m.tracker_frames,
+              std::atan2(-f[0], -f[2]) * 180.0 / 3.14159265358979);
+  camera_view(m, 288);
+  if (!m.tracker_message.empty() && !m.tracker_alarm) ImGui::TextWrapped("%s", m.tracker_message.c_str());
+}
+
+/// Audio load and xruns, the buttons, the keys, the last message.
+void audio_column(const WindowModel& m, WindowActions& a) {
+  ImGui::TextUnformatted("Audio");
+  ImGui::Text("load %.1f%% (max %.1f%%) of one core", 100 * m.load, 100 * m.load_max);
+  if (m.xruns > 0) ImGui::TextColored(ImVec4(1, 0.45f, 0.35f, 1), "xruns %llu", m.xruns);
+  else ImGui::Text("xruns 0");
+  ImGui::SameLine();
+  ImGui::Text("  blocks %llu", m.blocks);
+  if (ImGui::Button("Recenter (R)")) a.recenter = true;
+  ImGui::SameLine();
+  if (ImGui::Button("Quit (Q / Esc)")) a.quit = true;
+  ImGui::Separator();
+  ImGui::TextUnformatted("Keys");
+  for (const auto& k : kKeys) ImGui::Text("  %-9s %s", k.keys, k.does);
+  if (!m.message.empty()) {
+    ImGui::Separator();
+    ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.55f, 0.45f, 1));
+    ImGui::TextWrapped("%s", m.message.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
+/// Source `i`'s controls: sound, path or position, gain and distance.
+void source_controls(WindowModel& m, std::size_t i, WindowActions& a) {
+  auto& s = m.sources[i];
+  const int id = int(i);
+  ImGui::PushID(id);
+  char header[160];
+  std::snprintf(header, sizeof header, "%s   (%.1f, %.1f, %.1f) m%s###src", s.name.c_str(), s.position[0],
+                s.position[1], s.position[2], s.path.empty() ? "" : ", moving");
+  if (ImGui::CollapsingHeader(header, i < 2 ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
+    ImGui::PushItemWidth(170);
+    if (combo("sound", &s.sound, m.sounds)) a.changed_sounds.push_back(id);
+    ImGui::SameLine();
+    if (combo("path", &s.path_choice, m.paths)) a.changed_paths.push_back(id);
+    if (s.path.empty() && ImGui::DragFloat3("position m", s.position.data(), 0.05f, -50, 50, "%.2f"))
+      a.changed_positions.push_back(id);
+    bool ch = ImGui::SliderFloat("gain dB", &s.gain_db, -40, 12, "%.1f");
+    ImGui::SameLine();
+    ch |= combo("distance", &s.distance_model, m.distance_models);
+    ch |= ImGui::SliderFloat("rolloff", &s.rolloff, 0, 4, "%.2f");
+    ImGui::SameLine();
+    ch |= ImGui::SliderFloat("ref. m", &s.reference_distance, 0.1f, 10, "%.2f");
+    if (ch) a.changed_sources.push_back(id);
+    ImGui::PopItemWidth();
+  }
+  ImGui::PopID();
+}
+
+/// The scene, room and file pickers, then every source's controls.
+void controls_column(WindowModel& m, std::array<char, 512>& file, WindowActions& a) {
+  ImGui::PushItemWidth(200);
+  if (combo("Scene", &m.scene_index, m.scenes)) a.scene_changed = true;
+  ImGui::SameLine();
+  if (combo("Room", &m.room_index, m.rooms)) a.room_changed = true;
+  ImGui::InputTextWithHint("##file", "scene file (.json)", file.data(), file.size());
+  ImGui::SameLine();
+  if (ImGui::Button("Load file") && file[0]) {
+    a.load_file = true;
+    m.scene_file_input = file.data();
+  }
+  ImGui::PopItemWidth();
+  ImGui::BeginChild("sources", ImVec2(0, 0), false);
+  for (std::size_t i = 0; i < m.sources.size(); ++i) source_controls(m, i, a);
+  ImGui::EndChild();
+}
+
+}  // namespace
+
 WindowActions DemoWindow::frame(WindowModel& m) {
   WindowActions a;
   if (frames_ > 0) glfwSwapBuffers(impl_->window);
@@ -162,28 +267,14 @@ WindowActions DemoWindow::frame(WindowModel& m) {
   ImGui_ImplOpenGL3_NewFrame();
   ImGui_ImplGlfw_NewFrame();
   ImGui::NewFrame();
-  if (!ImGui::GetIO().WantTextInput) {  // keys.hpp; not while typing a file name
-    if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) a.recenter = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) a.next_scene = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_M, false)) a.next_room = true;
-    if (ImGui::IsKeyPressed(GLFW_KEY_Q, false) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) a.quit = true;
-  }
+  read_keys(a);
 
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImGui::GetIO().DisplaySize);
   ImGui::Begin("earshot demo", nullptr, ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove);
   ImGui::Text("Scene %s   room %s   device %s (output latency %.1f ms)   t %.1f s", m.scene.c_str(),
               m.room.c_str(), m.device.c_str(), m.latency_ms, m.time_s);
-  if (m.tracker_alarm) {  // no remote, disconnected: say it so nobody misses it
-    ImGui::PushStyleColor(ImGuiCol_ChildBg, ImVec4(0.45f, 0.12f, 0.08f, 1));
-    ImGui::BeginChild("banner", ImVec2(0, 58), true);
-    ImGui::SetWindowFontScale(1.4f);
-    ImGui::TextColored(ImVec4(1, 0.85f, 0.6f, 1), "Tracker %s: %s", m.tracker.c_str(), m.tracker_state.c_str());
-    ImGui::SetWindowFontScale(1.0f);
-    ImGui::TextWrapped("%s", m.tracker_message.c_str());
-    ImGui::EndChild();
-    ImGui::PopStyleColor();
-  }
+  if (m.tracker_alarm) tracker_banner(m);
   if (ImGui::BeginTable("views", 3)) {
     ImGui::TableNextColumn();
     view("Top", 0, 1, 2, -1, "(x right, -z up = ahead)", m);
@@ -197,78 +288,12 @@ WindowActions DemoWindow::frame(WindowModel& m) {
     ImGui::TableSetupColumn("tracker", ImGuiTableColumnFlags_WidthFixed, 300);
     ImGui::TableSetupColumn("audio", ImGuiTableColumnFlags_WidthFixed, 330);
     ImGui::TableSetupColumn("controls", ImGuiTableColumnFlags_WidthStretch);
-    // -- the tracker
     ImGui::TableNextColumn();
-    ImGui::TextUnformatted("Tracker");
-    ImGui::SameLine();
-    ImGui::TextColored(state_colour(m.tracker_state), "%s", m.tracker_state.c_str());
-    ImGui::SameLine();
-    ImGui::TextDisabled("(%s)", m.tracker.c_str());
-    const V3 f = rotate(m.head_orientation, {0, 0, -1});
-    ImGui::Text("%.0f frames/s   %llu frames   yaw %+.1f deg", double(m.tracker_rate), m.tracker_frames,
-                std::atan2(-f[0], -f[2]) * 180.0 / 3.14159265358979);
-    camera_view(m, 288);
-    if (!m.tracker_message.empty() && !m.tracker_alarm) ImGui::TextWrapped("%s", m.tracker_message.c_str());
-    // -- audio, keys
+    tracker_column(m);
     ImGui::TableNextColumn();
-    ImGui::TextUnformatted("Audio");
-    ImGui::Text("load %.1f%% (max %.1f%%) of one core", 100 * m.load, 100 * m.load_max);
-    if (m.xruns > 0) ImGui::TextColored(ImVec4(1, 0.45f, 0.35f, 1), "xruns %llu", m.xruns);
-    else ImGui::Text("xruns 0");
-    ImGui::SameLine();
-    ImGui::Text("  blocks %llu", m.blocks);
-    if (ImGui::Button("Recenter (R)")) a.recenter = true;
-    ImGui::SameLine();
-    if (ImGui::Button("Quit (Q / Esc)")) a.quit = true;
-    ImGui::Separator();
-    ImGui::TextUnformatted("Keys");
-    for (const auto& k : kKeys) ImGui::Text("  %-9s %s", k.keys, k.does);
-    if (!m.message.empty()) {
-      ImGui::Separator();
-      ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1, 0.55f, 0.45f, 1));
-      ImGui::TextWrapped("%s", m.message.c_str());
-      ImGui::PopStyleColor();
-    }
-    // -- controls
+    audio_column(m, a);
     ImGui::TableNextColumn();
-    ImGui::PushItemWidth(200);
-    if (combo("Scene", &m.scene_index, m.scenes)) a.scene_changed = true;
-    ImGui::SameLine();
-    if (combo("Room", &m.room_index, m.rooms)) a.room_changed = true;
-    ImGui::InputTextWithHint("##file", "scene file (.json)", impl_->file.data(), impl_->file.size());
-    ImGui::SameLine();
-    if (ImGui::Button("Load file") && impl_->file[0]) {
-      a.load_file = true;
-      m.scene_file_input = impl_->file.data();
-    }
-    ImGui::PopItemWidth();
-    ImGui::BeginChild("sources", ImVec2(0, 0), false);
-    for (std::size_t i = 0; i < m.sources.size(); ++i) {
-      auto& s = m.sources[i];
-      const int id = int(i);
-      ImGui::PushID(id);
-      char header[160];
-      std::snprintf(header, sizeof header, "%s   (%.1f, %.1f, %.1f) m%s###src", s.name.c_str(), s.position[0],
-                    s.position[1], s.position[2], s.path.empty() ? "" : ", moving");
-      if (ImGui::CollapsingHeader(header, i < 2 ? ImGuiTreeNodeFlags_DefaultOpen : 0)) {
-        ImGui::PushItemWidth(170);
-        if (combo("sound", &s.sound, m.sounds)) a.changed_sounds.push_back(id);
-        ImGui::SameLine();
-        if (combo("path", &s.path_choice, m.paths)) a.changed_paths.push_back(id);
-        if (s.path.empty() && ImGui::DragFloat3("position m", s.position.data(), 0.05f, -50, 50, "%.2f"))
-          a.changed_positions.push_back(id);
-        bool ch = ImGui::SliderFloat("gain dB", &s.gain_db, -40, 12, "%.1f");
-        ImGui::SameLine();
-        ch |= combo("distance", &s.distance_model, m.distance_models);
-        ch |= ImGui::SliderFloat("rolloff", &s.rolloff, 0, 4, "%.2f");
-        ImGui::SameLine();
-        ch |= ImGui::SliderFloat("ref. m", &s.reference_distance, 0.1f, 10, "%.2f");
-        if (ch) a.changed_sources.push_back(id);
-        ImGui::PopItemWidth();
-      }
-      ImGui::PopID();
-    }
-    ImGui::EndChild();
+    controls_column(m, impl_->file, a);
     ImGui::EndTable();
   }
   ImGui::End();

@@ -6,7 +6,7 @@
 // load and xruns; pickers for the scene, the room and, per source, the sound,
 // the path or a fixed position, gain and distance attenuation; a recenter
 // button; the keys (keys.hpp). It only draws and reports what the person
-// did: the control loop (live_demo.cpp) applies it through the plugin's API.
+// did: window_view.cpp applies it to the session (live_session.hpp).
 // Built only when Debian's libimgui-dev and libglfw3-dev are present.
 #include <array>
 #include <filesystem>

@@ -1,10 +1,9 @@
 #pragma once
 // Helpers of the demo tests: run the earshot binary, read what it wrote.
+#include <sndfile.h>
+
 #include <cstdio>
-#include <cstring>
-#include <iterator>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,18 +26,19 @@ inline Run run(const std::string& cmd) {
   return r;
 }
 
-/// A 32-bit float stereo WAV as written by `earshot demo --capture`: left, right.
+/// A stereo WAV as written by `earshot demo --capture` (libsndfile): left, right.
 inline std::pair<std::vector<float>, std::vector<float>> read_float_wav(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  std::vector<char> bytes((std::istreambuf_iterator<char>(f)), {});
   std::pair<std::vector<float>, std::vector<float>> lr;
-  if (bytes.size() < 44) return lr;
-  const std::size_t n = (bytes.size() - 44) / 8;
-  lr.first.resize(n), lr.second.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::memcpy(&lr.first[i], bytes.data() + 44 + 8 * i, 4);
-    std::memcpy(&lr.second[i], bytes.data() + 48 + 8 * i, 4);
+  SF_INFO info{};
+  SNDFILE* f = sf_open(path.c_str(), SFM_READ, &info);
+  if (!f) return lr;
+  if (info.channels == 2) {
+    std::vector<float> inter(static_cast<std::size_t>(info.frames) * 2);
+    const auto n = static_cast<std::size_t>(sf_readf_float(f, inter.data(), info.frames));
+    lr.first.resize(n), lr.second.resize(n);
+    for (std::size_t i = 0; i < n; ++i) lr.first[i] = inter[2 * i], lr.second[i] = inter[2 * i + 1];
   }
+  sf_close(f);
   return lr;
 }
 

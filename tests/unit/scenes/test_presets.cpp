@@ -16,10 +16,11 @@
 #include "earshot/errors.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
-#include "earshot/scenes/scene_render.hpp"
+#include "earshot/host/scene_render.hpp"
 #include "scene_test_util.hpp"
 
 using namespace earshot::scenes;
+using namespace earshot::host;  // render_scene
 namespace fs = std::filesystem;
 
 namespace {

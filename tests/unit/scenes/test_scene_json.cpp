@@ -11,9 +11,10 @@
 #include "earshot/errors.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/scenes/scene.hpp"
-#include "earshot/scenes/scene_render.hpp"
+#include "earshot/host/scene_render.hpp"
 
 using namespace earshot::scenes;
+using namespace earshot::host;  // render_scene
 namespace fs = std::filesystem;
 
 namespace {

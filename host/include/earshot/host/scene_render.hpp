@@ -1,16 +1,16 @@
-// Offline rendering of a scene to a WAV file: deterministic (the same inputs
-// give the same bytes), block by block through the renderer.
+// Offline rendering of a scene to a WAV file through the plugin's C API:
+// deterministic (the same inputs give the same bytes), block by block.
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <functional>
 #include <optional>
 
+#include "earshot/host/wav_writer.hpp"
 #include "earshot/scenes/scene.hpp"
 
-namespace earshot::scenes {
-
-enum class WavFormat { float32, pcm24 };
+namespace earshot::host {
 
 struct RenderOptions {
   std::filesystem::path out;
@@ -34,6 +34,6 @@ struct RenderStats {
 };
 
 /// Throws earshot::InputError for bad input (scene, HRTF, pose track, output).
-RenderStats render_scene(const Scene& scene, const RenderOptions& opt);
+RenderStats render_scene(const scenes::Scene& scene, const RenderOptions& opt);
 
-}  // namespace earshot::scenes
+}  // namespace earshot::host

@@ -1,37 +1,59 @@
 #!/usr/bin/env bash
-# The test command: installs what is missing, builds Release and runs the
-# quick tests, then the unit tests under ASan+UBSan, the threaded tests under
-# TSan, and each libFuzzer target for a short while.
-#   scripts/run-tests.sh            quick suites (what CI runs)
+# The test command: installs what is missing, then
+#   1. Release build (g++, warnings are errors) and the quick ctest labels;
+#   2. an ASan+UBSan tree (g++) and its unit tests;
+#   3. a clang tree with only the libFuzzer targets, each run for a short while;
+#   4. a TSan tree with only the threaded tests' targets.
+#   scripts/run-tests.sh                  quick suites (what CI runs)
 #   EARSHOT_SLOW=1 scripts/run-tests.sh   also the slow label
+#   EARSHOT_FUZZ_SECONDS=N                fuzz each target N s (default 20)
+# Each stage prints its wall time; the total is the README's figure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 
 jobs=$(nproc)
-echo "== Release build"
-cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+start=$SECONDS
+stage_name=""
+stage_start=$SECONDS
+stage() {
+  if [ -n "$stage_name" ]; then
+    echo "== ${stage_name} took $((SECONDS - stage_start)) s"
+  fi
+  stage_name=$1
+  stage_start=$SECONDS
+  echo "== $1"
+}
+
+stage "Release build (g++, -Werror)"
+cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DEARSHOT_WERROR=ON >/dev/null
 cmake --build build/release -j "$jobs"
 label_args=(-LE slow)
 [ "${EARSHOT_SLOW:-0}" = 1 ] && label_args=()
+stage "Release ctest"
 ctest --test-dir build/release --output-on-failure -j "$jobs" "${label_args[@]}"
 
-echo "== ASan+UBSan build (unit tests)"
+stage "ASan+UBSan build (unit tests)"
 cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DEARSHOT_SANITIZE=address,undefined -DEARSHOT_BUILD_BENCH=OFF >/dev/null
 cmake --build build/asan -j "$jobs"
+stage "ASan+UBSan unit tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$jobs" -L unit
 
-echo "== TSan build (threaded tests, label threads)"
-cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
-cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests
-TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -L threads
-
-echo "== fuzz smoke (libFuzzer + ASan/UBSan, ${EARSHOT_FUZZ_SECONDS:-20} s per target)"
+stage "fuzz build (clang, libFuzzer + ASan/UBSan: the fuzz targets only)"
 CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DEARSHOT_BUILD_FUZZ=ON -DEARSHOT_BUILD_TESTS=OFF -DEARSHOT_BUILD_BENCH=OFF \
   -DEARSHOT_SANITIZE=address,undefined -DEARSHOT_FUZZ_SECONDS="${EARSHOT_FUZZ_SECONDS:-20}" >/dev/null
-cmake --build build/fuzz -j "$jobs"
-ctest --test-dir build/fuzz -L fuzz --output-on-failure
+cmake --build build/fuzz -j "$jobs" --target earshot_fuzz_targets
+stage "fuzz smoke (${EARSHOT_FUZZ_SECONDS:-20} s per target, two at a time)"
+ctest --test-dir build/fuzz -L fuzz --output-on-failure -j "$jobs"
+
+stage "TSan build (threaded tests, label threads)"
+cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
+cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests
+stage "TSan tests"
+TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -L threads
+echo "== ${stage_name} took $((SECONDS - stage_start)) s"
+echo "== all stages passed in $((SECONDS - start)) s"

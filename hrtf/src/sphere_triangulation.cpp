@@ -36,7 +36,7 @@ Face make_face(const std::vector<V>& p, std::uint32_t a, std::uint32_t b, std::u
 /// Incremental convex hull. The points are jittered by a tiny amount first
 /// so that coplanar measurement rings are in general position; every input
 /// point on the sphere is then a hull vertex.
-std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs) {
+std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Vec3> dirs) {
   const std::size_t n = dirs.size();
   std::vector<V> p(n);
   std::mt19937_64 rng(12345);
@@ -103,7 +103,7 @@ std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs)
 
 }  // namespace
 
-SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
+SphereTriangulation::SphereTriangulation(std::span<const Vec3> dirs) {
   if (dirs.size() < 4) throw std::invalid_argument("need at least four measured directions");
   for (const auto& t : convex_hull(dirs)) {
     Triangle tri{t, {}};
@@ -132,7 +132,7 @@ SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
         for (int se = 0; se <= kSub; ++se) {
           const double az = (ia + static_cast<double>(sa) / kSub) * 2 * std::numbers::pi / kAz - std::numbers::pi;
           const double el = (ie + static_cast<double>(se) / kSub) * std::numbers::pi / kEl - std::numbers::pi / 2;
-          const Dir d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+          const Vec3 d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
           for (std::uint32_t t = 0; t < tris_.size(); ++t)
             if (weights(tris_[t], d, w) && std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
         }
@@ -144,7 +144,7 @@ SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
   }
 }
 
-bool SphereTriangulation::weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const {
+bool SphereTriangulation::weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const {
   for (int k = 0; k < 3; ++k) {
     const auto r = static_cast<std::size_t>(3 * k);
     w[static_cast<std::size_t>(k)] = t.inv[r] * d[0] + t.inv[r + 1] * d[1] + t.inv[r + 2] * d[2];
@@ -153,7 +153,7 @@ bool SphereTriangulation::weights(const Triangle& t, const Dir& d, std::array<do
   return w[0] >= eps && w[1] >= eps && w[2] >= eps && (w[0] + w[1] + w[2]) > 0.0;
 }
 
-std::size_t SphereTriangulation::cell_of(const Dir& d) const {
+std::size_t SphereTriangulation::cell_of(const Vec3& d) const {
   const double az = std::atan2(d[1], d[0]);
   const double el = std::asin(std::clamp(d[2], -1.0, 1.0));
   const int ia = std::clamp(static_cast<int>((az + std::numbers::pi) / (2 * std::numbers::pi) * kAz), 0, kAz - 1);
@@ -161,7 +161,7 @@ std::size_t SphereTriangulation::cell_of(const Dir& d) const {
   return static_cast<std::size_t>(ia * kEl + ie);
 }
 
-Blend SphereTriangulation::locate(const Dir& d, std::uint32_t hint) const {
+Blend SphereTriangulation::locate(const Vec3& d, std::uint32_t hint) const {
   std::array<double, 3> w{};
   const Triangle* hit = nullptr;
   if (hint < tris_.size() && weights(tris_[hint], d, w)) hit = &tris_[hint];

@@ -9,9 +9,9 @@
 #include <span>
 #include <vector>
 
-namespace earshot::hrtf {
+#include "earshot/geometry.hpp"
 
-using Dir = std::array<double, 3>;  ///< unit vector
+namespace earshot::hrtf {
 
 /// Three measurement indices and their weights (non-negative, sum 1).
 struct Blend {
@@ -24,12 +24,12 @@ class SphereTriangulation {
  public:
   /// Builds the hull of `dirs` (unit vectors, at least 4, not all in one
   /// plane through the origin). Throws std::invalid_argument otherwise.
-  explicit SphereTriangulation(std::span<const Dir> dirs);
+  explicit SphereTriangulation(std::span<const Vec3> dirs);
 
   /// Weights of the triangle the ray through `d` crosses. No allocation.
   /// `hint`: a triangle to try first (a moving source is usually still in
   /// the one it was in last block).
-  [[nodiscard]] Blend locate(const Dir& d, std::uint32_t hint = kNoHint) const;
+  [[nodiscard]] Blend locate(const Vec3& d, std::uint32_t hint = kNoHint) const;
   static constexpr std::uint32_t kNoHint = 0xffffffffu;
 
   [[nodiscard]] std::size_t triangle_count() const { return tris_.size(); }
@@ -41,8 +41,8 @@ class SphereTriangulation {
     std::array<std::uint32_t, 3> v;
     std::array<double, 9> inv;  // inverse of [a b c] (columns), row-major
   };
-  [[nodiscard]] bool weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const;
-  [[nodiscard]] std::size_t cell_of(const Dir& d) const;
+  [[nodiscard]] bool weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const;
+  [[nodiscard]] std::size_t cell_of(const Vec3& d) const;
 
   std::vector<Triangle> tris_;
   // Acceleration grid over azimuth x elevation: candidate triangles per cell.

@@ -20,13 +20,14 @@
 #include <variant>
 
 #include "earshot/errors.hpp"
+#include "earshot/geometry.hpp"
 #include "earshot/host/rooms.hpp"
 #include "earshot/host/scene_render.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/stop_signals.hpp"
 #include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/pose_track_writer.hpp"
+#include "earshot/tracker/pose_track_csv.hpp"
 #include "earshot/tracker/sim_source.hpp"
 #include "demo/audio_output.hpp"
 #include "demo/keys.hpp"
@@ -93,7 +94,7 @@ TrackedHead track_to_file(const DemoArgs& a, double duration, const std::filesys
   pipeline.request_recenter();  // the first pose seen is straight ahead
   std::ofstream out(poses);
   if (!out) throw InputError::at(poses.string(), 0, "", "cannot write");
-  tracker::PoseTrackWriter writer(out);
+  tracker::PoseTrackCsvWriter writer(out);
   TrackedHead head;
   for (;;) {
     const tracker::SourceEvent e = source->next(std::chrono::milliseconds(0));
@@ -102,10 +103,7 @@ TrackedHead track_to_file(const DemoArgs& a, double duration, const std::filesys
     if (!p || std::holds_alternative<tracker::SourceNote>(e)) continue;
     ++head.frames;
     if (p->state == PoseState::tracking || p->state == PoseState::predicted) ++head.tracked;
-    // Yaw of the head: the angle of its forward axis (-z) about +y.
-    const auto& q = p->orientation;
-    const double fx = -2 * (q[1] * q[3] + q[0] * q[2]), fz = -(1 - 2 * (q[1] * q[1] + q[2] * q[2]));
-    const double yaw = std::atan2(-fx, -fz) * 180.0 / std::numbers::pi;
+    const double yaw = ypr_from_quat(p->orientation).yaw * 180.0 / std::numbers::pi;
     head.yaw_min = std::min(head.yaw_min, yaw);
     head.yaw_max = std::max(head.yaw_max, yaw);
     writer.write(*p);
@@ -151,7 +149,7 @@ void run_demo(const DemoArgs& a) {
 void run_offline(const DemoArgs& a) {
   const auto scene_file = scenes::resolve_scene_argument(a.scene);
   scenes::Scene scene = scenes::load_scene(scene_file);
-  if (!a.room.empty()) scene.room = host::checked_room(a.room, "--room");
+  if (!a.room.empty()) scene.room = scenes::checked_room_name(a.room, "--room");
   const double duration = a.duration > 0 ? a.duration : scene.duration_s;
   std::filesystem::path out(a.out), poses = out;
   poses.replace_extension(".poses.csv");

@@ -55,35 +55,20 @@ struct SolveOptions {
 /// What a tracking run did, and how well when ground truth is known.
 struct Summary {
   long frames = 0, tracking = 0, predicted = 0, lost = 0;
-  long frames_3plus = 0, tracked_3plus = 0;  // frames with >= 3 LED dots (per truth)
   double reproj_sum = 0.0;
-  long flips = 0;  // tracked frames with a rotation error above 20 degrees
-  AccuracyCollector all, four_dot;
+  TrackingTally tally;
 
   void add(const DotFrame& f, const TrackResult& r) {
     ++frames;
-    if (r.state == TrackState::tracking) {
+    if (r.state == PoseState::tracking) {
       ++tracking;
       reproj_sum += r.rms_px;
-    } else if (r.state == TrackState::predicted) {
+    } else if (r.state == PoseState::predicted) {
       ++predicted;
     } else {
       ++lost;
     }
-    int leds = f.visible();
-    if (f.truth) {
-      leds = 0;
-      for (int l : f.truth->slot_led) leds += l > 0 ? 1 : 0;
-    }
-    if (leds >= 3) {
-      ++frames_3plus;
-      tracked_3plus += r.state == TrackState::tracking ? 1 : 0;
-    }
-    if (f.truth && r.state == TrackState::tracking) {
-      all.add(r.pose, f.truth->pose);
-      if (leds == 4) four_dot.add(r.pose, f.truth->pose);
-      if (rotation_angle_between(r.pose.R, f.truth->pose.R) > 20.0 * M_PI / 180.0) ++flips;
-    }
+    tally.add(f, r.state == PoseState::tracking, r.pose);
   }
 
   void print(std::FILE* out, std::string_view method) const {
@@ -92,18 +77,18 @@ struct Summary {
     std::fprintf(out, "frames            %ld\n", frames);
     std::fprintf(out, "tracked           %.2f %%  (predicted %.2f %%, lost %.2f %%)\n", pct(tracking, frames),
                  pct(predicted, frames), pct(lost, frames));
-    std::fprintf(out, "tracked of frames with >= 3 dots  %.3f %%  (%ld of %ld)\n", pct(tracked_3plus, frames_3plus),
-                 tracked_3plus, frames_3plus);
+    std::fprintf(out, "tracked of frames with >= 3 dots  %.3f %%  (%ld of %ld)\n", pct(tally.tracked_3plus, tally.frames_3plus),
+                 tally.tracked_3plus, tally.frames_3plus);
     std::fprintf(out, "mean reprojection error  %.3f px\n", tracking ? reproj_sum / static_cast<double>(tracking) : 0.0);
-    if (all.count() == 0) return;
+    if (tally.all.count() == 0) return;
     auto row = [&](const char* name, const ErrorStats& s, const char* unit) {
       std::fprintf(out, "%-26s RMS %8.3f  p95 %8.3f  max %9.3f %s  (n=%zu)\n", name, s.rms, s.p95, s.max, unit, s.count);
     };
-    row("rotation error", all.rotation_deg(), "deg");
-    row("translation error", all.translation_mm(), "mm");
-    row("rotation error, 4 dots", four_dot.rotation_deg(), "deg");
-    row("translation error, 4 dots", four_dot.translation_mm(), "mm");
-    std::fprintf(out, "flipped frames (> 20 deg) %ld\n", flips);
+    row("rotation error", tally.all.rotation_deg(), "deg");
+    row("translation error", tally.all.translation_mm(), "mm");
+    row("rotation error, 4 dots", tally.four_dot.rotation_deg(), "deg");
+    row("translation error, 4 dots", tally.four_dot.translation_mm(), "mm");
+    std::fprintf(out, "flipped frames (> %.0f deg) %ld\n", kFlipDeg, tally.flips);
   }
 };
 

@@ -16,15 +16,13 @@
 #include <thread>
 
 #include "earshot/errors.hpp"
+#include "earshot/geometry.hpp"
 #include "earshot/pose_slot.hpp"
 #include "earshot/stop_signals.hpp"
 #include "earshot/tracker/led_model.hpp"
 #include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/opentrack_packet.hpp"
-#include "earshot/tracker/osc_pose.hpp"
-#include "earshot/tracker/pose_track_writer.hpp"
-#include "earshot/tracker/sim_source.hpp"
-#include "earshot/tracker/wiimote_source.hpp"
+#include "earshot/tracker/pose_track_csv.hpp"
+#include "earshot/tracker/source_spec.hpp"
 #include "track_commands.hpp"
 
 namespace earshot::app {
@@ -43,76 +41,31 @@ struct LiveOptions {
   std::string model_path;
 };
 
-const char* kSources = "wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT]";
-
-std::uint16_t port_of(const std::string& spec, std::size_t colon, std::uint16_t fallback) {
-  if (colon == std::string::npos) return fallback;
-  const std::string p = spec.substr(colon + 1);
-  char* end = nullptr;
-  const long v = std::strtol(p.c_str(), &end, 10);
-  if (p.empty() || *end != '\0' || v < 1 || v > 65535)
-    throw InputError::at("--source", 0, "", "bad UDP port '" + p + "' in '" + spec + "'");
-  return static_cast<std::uint16_t>(v);
-}
-
 std::unique_ptr<FrameSource> make_source(const LiveOptions& o, bool camera_only) {
-  const std::string& s = o.source;
-  const std::size_t colon = s.find(':');
-  const std::string kind = s.substr(0, colon);
-  const Pacing pacing = o.fast ? Pacing::as_fast_as_possible : Pacing::real_time;
-  const Camera cam = Camera::with_focal(o.focal);
-  if (kind == "wiimote" && colon == std::string::npos) return std::make_unique<WiimoteSource>(make_hidapi_transport());
-  if (kind == "sim" && colon == std::string::npos) {
-    SimSourceConfig c;
-    c.pacing = pacing;
-    return std::make_unique<SimSource>(cam, o.model_path.empty() ? LedModel::thesis() : load_led_model(o.model_path), c);
-  }
-  if (kind == "replay" && colon != std::string::npos) return std::make_unique<ReplaySource>(s.substr(colon + 1), pacing);
-  if (!camera_only && kind == "opentrack")
-    return std::make_unique<UdpPoseSource>("opentrack", port_of(s, colon, kOpentrackDefaultPort), true, decode_opentrack);
-  if (!camera_only && kind == "osc")
-    return std::make_unique<UdpPoseSource>("osc", port_of(s, colon, kOscDefaultPort), true, decode_osc);
-  if (camera_only && (kind == "opentrack" || kind == "osc"))
-    throw InputError::at("--source", 0, "", "'" + s + "' sends poses, not dots: record needs wiimote, sim or replay:FILE");
-  throw InputError::at("--source", 0, "", "unknown source '" + s + "' (" + kSources + ")");
-}
-
-const char* state_name(PoseState s) {
-  switch (s) {
-    case PoseState::searching: return "searching";
-    case PoseState::tracking: return "tracking";
-    case PoseState::predicted: return "predicted";
-    case PoseState::lost: return "lost";
-  }
-  return "?";
-}
-
-/// Yaw, pitch, roll in degrees in the audio convention (see live_pipeline.hpp).
-std::array<double, 3> ypr_deg(const HeadPose& p) {
-  const Quat q(p.orientation[0], p.orientation[1], p.orientation[2], p.orientation[3]);
-  const Mat3 R = q.normalized().toRotationMatrix();
-  const Vec3 f = R * Vec3(0, 0, -1);
-  const double yaw = std::atan2(-f.x(), -f.z());
-  const double pitch = std::asin(std::clamp(f.y(), -1.0, 1.0));
-  const Mat3 M = (Eigen::AngleAxisd(yaw, Vec3::UnitY()) * Eigen::AngleAxisd(pitch, Vec3::UnitX())).toRotationMatrix().transpose() * R;
-  const double roll = -std::atan2(M(1, 0), M(0, 0));
-  constexpr double deg = 180.0 / std::numbers::pi;
-  return {yaw * deg, pitch * deg, roll * deg};
+  const SourceSpec spec = parse_source_spec(o.source, "--source");
+  if (camera_only && spec.sends_poses())
+    throw InputError::at("--source", 0, "", "'" + o.source + "' sends poses, not dots: record needs wiimote, sim or replay:FILE");
+  SourceOptions so;
+  so.pacing = o.fast ? Pacing::as_fast_as_possible : Pacing::real_time;
+  so.camera = Camera::with_focal(o.focal);
+  if (spec.kind == SourceSpec::Kind::sim && !o.model_path.empty()) so.model = load_led_model(o.model_path);
+  return make_frame_source(spec, so);
 }
 
 std::string pose_line(const HeadPose& p, const LiveTracker::Status& st) {
-  const auto a = ypr_deg(p);
+  constexpr double deg = 180.0 / std::numbers::pi;
+  const YawPitchRoll a = ypr_from_quat(p.orientation);
   char buf[256];
   std::snprintf(buf, sizeof buf,
                 "t=%8.2fs %-9s x=%+6.3f y=%+6.3f z=%+6.3f m  yaw=%+6.1f pitch=%+6.1f roll=%+6.1f deg  frames=%llu dropped=%llu",
-                p.t, state_name(p.state), p.position[0], p.position[1], p.position[2], a[0], a[1], a[2],
+                p.t, pose_state_name(p.state).data(), p.position[0], p.position[1], p.position[2], a.yaw * deg, a.pitch * deg, a.roll * deg,
                 static_cast<unsigned long long>(st.frames), static_cast<unsigned long long>(st.dropped));
   return buf;
 }
 
 void run_live(const LiveOptions& o) {
   std::ofstream file;
-  std::optional<PoseTrackWriter> writer;
+  std::optional<PoseTrackCsvWriter> writer;
   if (!o.record.empty()) {
     file.open(o.record);
     if (!file) throw InputError::at(o.record, 0, "", "cannot create file");
@@ -208,7 +161,7 @@ void add_common(CLI::App& cmd, LiveOptions& o) {
 void add_track_live_commands(CLI::App& track) {
   auto lo = std::make_shared<LiveOptions>();
   auto* live = track.add_subcommand("live", "Track live and print the listener pose and state; optionally record it as a Pose track CSV");
-  live->add_option("--source,-s", lo->source, std::string("Input: ") + kSources)->capture_default_str();
+  live->add_option("--source,-s", lo->source, "Input: " + std::string(kSourceSpecs))->capture_default_str();
   live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
   add_common(*live, *lo);
   live->callback([lo] { run_live(*lo); });

@@ -1,5 +1,7 @@
 #include "earshot/audio/fractional_delay.hpp"
 
+#include "earshot/windowed_sinc.hpp"
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -24,15 +26,6 @@ constexpr std::size_t kCellStride = 3 * kTaps;  // a0, a1, a2 of one cell
 // repeats its first kMirror samples past its end so no read wraps.
 constexpr std::size_t kMirror = kTaps + 16;
 
-double bessel_i0(double x) {
-  double sum = 1.0, term = 1.0;
-  for (int k = 1; k < 40; ++k) {
-    term *= (x / (2.0 * k)) * (x / (2.0 * k));
-    sum += term;
-  }
-  return sum;
-}
-
 /// The exact kernel for a fraction in [0, 1]: a Kaiser-windowed sinc, taps
 /// ordered from the oldest sample read to the newest, unit DC gain.
 std::array<double, kTaps> exact_kernel(double frac) {
@@ -40,12 +33,7 @@ std::array<double, kTaps> exact_kernel(double frac) {
   double sum = 0.0;
   for (std::size_t i = 0; i < kTaps; ++i) {
     // Tap i reads the sample (kHalf - i) older than the integer delay.
-    const double x = kHalf - static_cast<double>(i) - frac;
-    double sinc = 1.0;
-    if (x != 0.0) sinc = (x == std::round(x)) ? 0.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
-    const double r = x / kHalf;
-    const double w = std::abs(r) >= 1.0 ? 0.0 : bessel_i0(kBeta * std::sqrt(1.0 - r * r)) / bessel_i0(kBeta);
-    row[i] = sinc * w;
+    row[i] = kaiser_sinc(kHalf - static_cast<double>(i) - frac, kHalf, kBeta);
     sum += row[i];
   }
   for (double& v : row) v /= sum;

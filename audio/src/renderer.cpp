@@ -9,35 +9,11 @@
 namespace earshot::audio {
 namespace {
 
-/// v rotated by the inverse of unit quaternion q (world -> head).
-Vec3 rotate_inverse(const Quat& q, const Vec3& v) {
-  const double w = q[0], x = -q[1], y = -q[2], z = -q[3];  // conjugate
-  // t = 2 * cross(q.xyz, v); v' = v + w t + cross(q.xyz, t)
-  const double tx = 2 * (y * v[2] - z * v[1]), ty = 2 * (z * v[0] - x * v[2]), tz = 2 * (x * v[1] - y * v[0]);
-  return {v[0] + w * tx + (y * tz - z * ty), v[1] + w * ty + (z * tx - x * tz), v[2] + w * tz + (x * ty - y * tx)};
-}
-
-Quat mul(const Quat& a, const Quat& b) {
-  return {a[0] * b[0] - a[1] * b[1] - a[2] * b[2] - a[3] * b[3], a[0] * b[1] + a[1] * b[0] + a[2] * b[3] - a[3] * b[2],
-          a[0] * b[2] - a[1] * b[3] + a[2] * b[0] + a[3] * b[1], a[0] * b[3] + a[1] * b[2] - a[2] * b[1] + a[3] * b[0]};
-}
-
-}  // namespace
-
-Quat quat_from_ypr(double yaw, double pitch, double roll) {
-  const Quat qy{std::cos(yaw / 2), 0, std::sin(yaw / 2), 0};
-  const Quat qp{std::cos(pitch / 2), std::sin(pitch / 2), 0, 0};
-  const Quat qr{std::cos(roll / 2), 0, 0, -std::sin(roll / 2)};
-  return mul(mul(qy, qp), qr);
-}
-
-namespace {
-
 /// A point as the listener's head sees it: the unit vector towards it in
 /// SOFA's frame (x ahead, y left, z up; zero when it is at the head) and
 /// its distance. No trigonometry.
 struct HeadFrame {
-  hrtf::Dir direction{0, 0, 0};
+  Vec3 direction{0, 0, 0};
   double distance = 0.0;
 };
 
@@ -74,7 +50,7 @@ struct Renderer::Voice {
   double gain = -1.0;  // previous block's gain, ramped to avoid zipper noise
   std::array<double, 2> ear_delay{-1.0, -1.0};  // previous block's delay per ear, samples (< 0: none yet)
   std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
-  hrtf::Dir direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
+  Vec3 direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
   hrtf::Interpolation recipe{};           // measurements, weights and delays for that direction
   // The panning into the bank at the end of the last two blocks: which
   // measurements, and per ear the gain each got (blend weight x ear gain x

@@ -98,11 +98,16 @@ std::string room_preset_names() {
   return out;
 }
 
-const RoomParams& room_preset(std::string_view name) {
+const RoomParams* find_room_preset(std::string_view name) {
   if (name == "default") name = "generic";  // the thesis lists both; EFX's default is generic
   if (name == "musical-plate") name = "plate";
   for (const auto& p : kPresets)
-    if (p.name == name) return p.params;
+    if (p.name == name) return &p.params;
+  return nullptr;
+}
+
+const RoomParams& room_preset(std::string_view name) {
+  if (const RoomParams* p = find_room_preset(name)) return *p;
   throw InputError("unknown room preset '" + std::string(name) + "' (available: " + room_preset_names() + ")");
 }
 

@@ -8,7 +8,7 @@ audio::ListenerState fixed_listener(const scenes::SceneListener& l) {
   constexpr double kDeg = std::numbers::pi / 180.0;
   audio::ListenerState s;
   s.position = l.position;
-  s.orientation = audio::quat_from_ypr(l.yaw_deg * kDeg, l.pitch_deg * kDeg, l.roll_deg * kDeg);
+  s.orientation = quat_from_ypr(l.yaw_deg * kDeg, l.pitch_deg * kDeg, l.roll_deg * kDeg);
   return s;
 }
 

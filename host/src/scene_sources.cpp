@@ -90,7 +90,7 @@ void SceneSources::move(double t) {
     }
 }
 
-scenes::Point3 SceneSources::position(std::size_t i, double t) const {
+Vec3 SceneSources::position(std::size_t i, double t) const {
   return scenes::source_position(scene_.sources[i], std::max(0.0, t - std::max(t0_, 0.0)));
 }
 

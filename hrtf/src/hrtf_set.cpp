@@ -8,10 +8,10 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
-#include <numbers>
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "earshot/windowed_sinc.hpp"
 
 namespace earshot::hrtf {
 namespace {
@@ -70,23 +70,12 @@ double onset_of(std::span<const float> h) {
 void shift_earlier(std::span<const float> h, double shift, std::span<float> out) {
   constexpr int kHalf = 32;
   constexpr double kBeta = 8.0;
-  auto i0 = [](double x) {
-    double sum = 1.0, term = 1.0;
-    for (int k = 1; k < 40; ++k) {
-      term *= (x / (2.0 * k)) * (x / (2.0 * k));
-      sum += term;
-    }
-    return sum;
-  };
   const double whole = std::floor(shift), frac = shift - whole;
   std::array<double, 2 * kHalf> taps{};
   double sum = 0.0;
   for (int j = -kHalf + 1; j <= kHalf; ++j) {  // tap j weighs h[i + whole + j]
-    const double x = static_cast<double>(j) - frac;
-    const double sinc = x == 0.0 ? 1.0 : std::sin(std::numbers::pi * x) / (std::numbers::pi * x);
-    const double r = x / kHalf;
-    const double w = std::abs(r) >= 1.0 ? 0.0 : i0(kBeta * std::sqrt(1.0 - r * r)) / i0(kBeta);
-    taps[static_cast<std::size_t>(j + kHalf - 1)] = frac == 0.0 ? (j == 0 ? 1.0 : 0.0) : sinc * w;
+    taps[static_cast<std::size_t>(j + kHalf - 1)] =
+        frac == 0.0 ? (j == 0 ? 1.0 : 0.0) : kaiser_sinc(static_cast<double>(j) - frac, kHalf, kBeta);
     sum += taps[static_cast<std::size_t>(j + kHalf - 1)];
   }
   const auto n = static_cast<long>(h.size());
@@ -187,7 +176,7 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     for (float& v : set.hrirs_) v = static_cast<float>(v * scale);
   }
   set.delays_.resize(M);
-  std::vector<Dir> unit(M);
+  std::vector<Vec3> unit(M);
   for (std::size_t m = 0; m < M; ++m) {
     const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
     const double x = p[0], y = p[1], z = p[2];
@@ -252,12 +241,12 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
 }
 
 Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32_t hint) const {
-  return interpolate(Dir{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
+  return interpolate(Vec3{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
                          std::sin(elevation)},
                      hint);
 }
 
-Interpolation HrtfSet::interpolate(const Dir& d, std::uint32_t hint) const {
+Interpolation HrtfSet::interpolate(const Vec3& d, std::uint32_t hint) const {
   Interpolation out;
   out.blend = triangulation_->locate(d, hint);
   std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies

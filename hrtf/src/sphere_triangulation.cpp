@@ -35,7 +35,7 @@ Face make_face(const std::vector<V>& p, std::uint32_t a, std::uint32_t b, std::u
 
 /// The index of each direction's first occurrence, in order: a direction
 /// measured twice (within ~1e-6 rad) is triangulated once.
-std::vector<std::uint32_t> distinct_directions(std::span<const Dir> dirs) {
+std::vector<std::uint32_t> distinct_directions(std::span<const Vec3> dirs) {
   std::vector<std::uint32_t> keep;
   for (std::uint32_t i = 0; i < dirs.size(); ++i) {
     const bool repeat = std::any_of(keep.begin(), keep.end(), [&](std::uint32_t k) {
@@ -72,7 +72,7 @@ std::pair<std::array<std::uint32_t, 4>, double> initial_tetrahedron(const std::v
 /// Incremental convex hull of dirs[ids[*]], in indices into dirs. The points
 /// are jittered by a tiny amount first so that coplanar measurement rings are
 /// in general position; every point on the sphere is then a hull vertex.
-std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs, std::span<const std::uint32_t> ids) {
+std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Vec3> dirs, std::span<const std::uint32_t> ids) {
   const std::size_t n = ids.size();
   std::vector<V> p(n);
   for (std::size_t i = 0; i < n; ++i) p[i] = dirs[ids[i]];
@@ -126,7 +126,7 @@ std::vector<std::array<std::uint32_t, 3>> convex_hull(std::span<const Dir> dirs,
 
 }  // namespace
 
-SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
+SphereTriangulation::SphereTriangulation(std::span<const Vec3> dirs) {
   const auto ids = distinct_directions(dirs);
   if (ids.size() < 4) throw std::invalid_argument("need at least four different measured directions");
   for (const auto& t : convex_hull(dirs, ids)) {
@@ -163,7 +163,7 @@ SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
         for (int se = 0; se <= kSub; ++se) {
           const double az = (ia + static_cast<double>(sa) / kSub) * 2 * std::numbers::pi / kAz - std::numbers::pi;
           const double el = (ie + static_cast<double>(se) / kSub) * std::numbers::pi / kEl - std::numbers::pi / 2;
-          const Dir d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
+          const Vec3 d{std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el)};
           for (std::uint32_t t = 0; t < tris_.size(); ++t)
             if (weights(tris_[t], d, w) && std::find(list.begin(), list.end(), t) == list.end()) list.push_back(t);
         }
@@ -175,7 +175,7 @@ SphereTriangulation::SphereTriangulation(std::span<const Dir> dirs) {
   }
 }
 
-bool SphereTriangulation::weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const {
+bool SphereTriangulation::weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const {
   for (int k = 0; k < 3; ++k) {
     const auto r = static_cast<std::size_t>(3 * k);
     w[static_cast<std::size_t>(k)] = t.inv[r] * d[0] + t.inv[r + 1] * d[1] + t.inv[r + 2] * d[2];
@@ -184,7 +184,7 @@ bool SphereTriangulation::weights(const Triangle& t, const Dir& d, std::array<do
   return w[0] >= eps && w[1] >= eps && w[2] >= eps && (w[0] + w[1] + w[2]) > 0.0;
 }
 
-std::size_t SphereTriangulation::cell_of(const Dir& d) const {
+std::size_t SphereTriangulation::cell_of(const Vec3& d) const {
   const double az = std::atan2(d[1], d[0]);
   const double el = std::asin(std::clamp(d[2], -1.0, 1.0));
   const int ia = std::clamp(static_cast<int>((az + std::numbers::pi) / (2 * std::numbers::pi) * kAz), 0, kAz - 1);
@@ -192,7 +192,7 @@ std::size_t SphereTriangulation::cell_of(const Dir& d) const {
   return static_cast<std::size_t>(ia * kEl + ie);
 }
 
-Blend SphereTriangulation::locate(const Dir& d, std::uint32_t hint) const {
+Blend SphereTriangulation::locate(const Vec3& d, std::uint32_t hint) const {
   std::array<double, 3> w{};
   const Triangle* hit = nullptr;
   if (hint < tris_.size() && weights(tris_[hint], d, w)) hit = &tris_[hint];

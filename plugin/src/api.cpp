@@ -21,7 +21,7 @@
 
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/earshot.h"
-#include "orientation.hpp"
+#include "earshot/geometry.hpp"
 #include "world.hpp"
 
 namespace earshot::plugin {
@@ -113,13 +113,13 @@ ESenum with_source(ESworld h, ESsource s, const char* call, Body&& body) {
 }
 
 Quat quat_from_at_up6(const double* f) {
-  const auto q = quat_from_at_up(Vec3d{f[0], f[1], f[2]}, Vec3d{f[3], f[4], f[5]});
+  const auto q = quat_from_at_up(Vec3{f[0], f[1], f[2]}, Vec3{f[3], f[4], f[5]});
   if (!q) throw Failure{ES_INVALID_VALUE, "'at' and 'up' must be finite, non-zero and not parallel"};
   return *q;
 }
 
 Quat normalised_quat(const float* v) {
-  const auto q = normalised(Quat4{v[0], v[1], v[2], v[3]});
+  const auto q = normalised(Quat{v[0], v[1], v[2], v[3]});
   if (!q) throw Failure{ES_INVALID_VALUE, "the quaternion must be finite and non-zero"};
   return *q;
 }
@@ -197,6 +197,8 @@ ESenum bad_enum(World& w, const char* call, ESenum p) {
 }  // namespace earshot::plugin
 
 using namespace earshot::plugin;
+using earshot::Quat;
+using earshot::Vec3;
 namespace audio = earshot::audio;
 
 extern "C" {

@@ -7,8 +7,8 @@
 
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/tracker/live_tracker.hpp"
-#include "orientation.hpp"
-#include "tracker_spec.hpp"
+#include "earshot/geometry.hpp"
+#include "earshot/tracker/source_spec.hpp"
 #include "tracker_state.hpp"
 
 namespace earshot::plugin {
@@ -167,7 +167,10 @@ void World::attach_tracker(const char* spec) {
   try {
     tracker::LiveConfig cfg;
     cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to neutral
-    tracker_ = std::make_unique<tracker::LiveTracker>(make_frame_source(spec), tracker_slot_, cfg);
+    tracker::SourceOptions source;
+    source.wait_for_remote = true;  // the host plays on and shows how to pair one (esGetTrackerState)
+    tracker_ = std::make_unique<tracker::LiveTracker>(
+        tracker::make_frame_source(tracker::parse_source_spec(spec, "tracker"), source), tracker_slot_, cfg);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
   }

@@ -27,6 +27,7 @@
 #include "earshot/audio/renderer.hpp"
 #include "earshot/audio/room_reverb.hpp"
 #include "earshot/earshot.h"
+#include "earshot/geometry.hpp"
 #include "earshot/pose_slot.hpp"
 
 namespace earshot::tracker {
@@ -34,9 +35,6 @@ class LiveTracker;
 }
 
 namespace earshot::plugin {
-
-using audio::Quat;
-using audio::Vec3;
 
 /// A failed call: the code and, for people, why.
 struct Failure {

@@ -6,29 +6,25 @@
 namespace earshot::scenes {
 namespace {
 
-Point3 add(const Point3& a, const Point3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
-Point3 sub(const Point3& a, const Point3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
-Point3 scale(const Point3& a, double k) { return {a[0] * k, a[1] * k, a[2] * k}; }
-double dot(const Point3& a, const Point3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
-Point3 cross(const Point3& a, const Point3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Point3 unit(const Point3& a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
-Point3 lerp(const Point3& a, const Point3& b, double f) { return add(a, scale(sub(b, a), f)); }
+Vec3 add(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
+Vec3 sub(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
+Vec3 scale(const Vec3& a, double k) { return {a[0] * k, a[1] * k, a[2] * k}; }
+Vec3 unit(const Vec3& a) { return scale(a, 1.0 / std::sqrt(dot(a, a))); }
+Vec3 lerp(const Vec3& a, const Vec3& b, double f) { return add(a, scale(sub(b, a), f)); }
 
-Point3 at(const CirclePath& c, double t) {
-  const Point3 n = unit(c.normal);
+Vec3 at(const CirclePath& c, double t) {
+  const Vec3 n = unit(c.normal);
   // +x projected into the plane; -z when the normal is (nearly) x itself.
-  const Point3 a = std::abs(n[0]) > 0.9 ? Point3{0, 0, -1} : Point3{1, 0, 0};
-  const Point3 u = unit(sub(a, scale(n, dot(a, n))));
-  const Point3 v = cross(n, u);
+  const Vec3 a = std::abs(n[0]) > 0.9 ? Vec3{0, 0, -1} : Vec3{1, 0, 0};
+  const Vec3 u = unit(sub(a, scale(n, dot(a, n))));
+  const Vec3 v = cross(n, u);
   const double turns = std::max(0.0, t - c.start_s) / c.period_s;
   const double ang = c.phase_deg * std::numbers::pi / 180.0 +
                      (c.clockwise ? -1.0 : 1.0) * 2.0 * std::numbers::pi * (turns - std::floor(turns));
   return add(c.centre, scale(add(scale(u, std::cos(ang)), scale(v, std::sin(ang))), c.radius));
 }
 
-Point3 at(const LinePath& l, double t) {
+Vec3 at(const LinePath& l, double t) {
   const double len = std::sqrt(dot(sub(l.to, l.from), sub(l.to, l.from)));
   if (len <= 0.0) return l.from;
   const double s = std::max(0.0, t - l.start_s) * l.speed_mps;  // distance travelled
@@ -45,14 +41,14 @@ Point3 at(const LinePath& l, double t) {
   return lerp(l.from, l.to, f);
 }
 
-Point3 at(const WaypointPath& w, double t) {
+Vec3 at(const WaypointPath& w, double t) {
   const std::size_t n = w.points.size();
   if (n == 0) return {0, 0, 0};
   if (n == 1) return w.points[0];
   const std::size_t segs = w.loop ? n : n - 1;
   double total = 0.0;
   for (std::size_t i = 0; i < segs; ++i) {
-    const Point3 d = sub(w.points[(i + 1) % n], w.points[i]);
+    const Vec3 d = sub(w.points[(i + 1) % n], w.points[i]);
     total += std::sqrt(dot(d, d));
   }
   if (total <= 0.0) return w.points[0];
@@ -62,7 +58,7 @@ Point3 at(const WaypointPath& w, double t) {
   else if (s >= total)
     return w.points[n - 1];
   for (std::size_t i = 0; i < segs; ++i) {
-    const Point3 &a = w.points[i], &b = w.points[(i + 1) % n];
+    const Vec3 &a = w.points[i], &b = w.points[(i + 1) % n];
     const double len = std::sqrt(dot(sub(b, a), sub(b, a)));
     if (s <= len) return len > 0.0 ? lerp(a, b, s / len) : a;
     s -= len;
@@ -72,14 +68,14 @@ Point3 at(const WaypointPath& w, double t) {
 
 }  // namespace
 
-Point3 path_position(const MotionPath& path, double t) {
+Vec3 path_position(const MotionPath& path, double t) {
   return std::visit([t](const auto& p) { return at(p, t); }, path);
 }
 
-std::optional<Point3> plane_normal(std::string_view plane) {
-  if (plane == "xz") return Point3{0, 1, 0};
-  if (plane == "xy") return Point3{0, 0, 1};
-  if (plane == "yz") return Point3{1, 0, 0};
+std::optional<Vec3> plane_normal(std::string_view plane) {
+  if (plane == "xz") return Vec3{0, 1, 0};
+  if (plane == "xy") return Vec3{0, 0, 1};
+  if (plane == "yz") return Vec3{1, 0, 0};
   return std::nullopt;
 }
 

@@ -275,13 +275,7 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   s.duration_s = f.number("duration_s", 5.0, 0.0, 3600.0);
   s.sample_rate = f.number("sample_rate", 48000.0, 8000.0, 192000.0);
   s.room = f.text("room", "none");
-  if (s.room != "none") {
-    try {
-      (void)audio::room_preset(s.room);
-    } catch (const InputError&) {
-      f.fail("room", "unknown room preset '" + s.room + "' (available: none, " + audio::room_preset_names() + ")");
-    }
-  }
+  if (!is_room_name(s.room)) f.fail("room", unknown_room_message(s.room));
   s.reverb = f.text("reverb", "fdn");
   if (s.reverb != "fdn" && s.reverb != "schroeder")
     f.fail("reverb", "unknown reverb '" + s.reverb + "' (available: fdn, schroeder)");
@@ -343,7 +337,18 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   return s;
 }
 
-Point3 source_position(const SceneSource& s, double t) { return s.path ? path_position(*s.path, t) : s.position; }
+bool is_room_name(std::string_view name) { return name == "none" || audio::find_room_preset(name) != nullptr; }
+
+std::string unknown_room_message(std::string_view name) {
+  return "unknown room preset '" + std::string(name) + "' (available: none, " + audio::room_preset_names() + ")";
+}
+
+std::string checked_room_name(std::string_view name, std::string_view origin) {
+  if (!is_room_name(name)) throw InputError::at(origin, 0, "", unknown_room_message(name));
+  return std::string(name);
+}
+
+Vec3 source_position(const SceneSource& s, double t) { return s.path ? path_position(*s.path, t) : s.position; }
 
 Scene load_scene(const std::filesystem::path& path) {
   std::ifstream in(path);

@@ -126,7 +126,7 @@ std::vector<Segment> measure_elevation(const Args& a, const hrtf::HrtfSet& set, 
     t.precision(10);
     for (int az = -180; az <= 180; ++az) {
       const double t0 = (az + 180) * a.segment, t1 = t0 + a.segment - 1e-6;
-      const audio::Quat q = audio::quat_from_ypr(-az * kDeg, 0, 0);
+      const Quat q = quat_from_ypr(-az * kDeg, 0, 0);
       for (double tt : {t0, t1}) t << tt << ",0,0,0," << q[0] << ',' << q[1] << ',' << q[2] << ',' << q[3] << '\n';
     }
   }

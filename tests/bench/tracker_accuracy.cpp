@@ -24,6 +24,7 @@
 #include "opencv_pnp.hpp"
 
 using namespace earshot::tracker;
+using earshot::PoseState;
 using earshot::bench::CvMethod;
 using earshot::bench::OpenCvPnp;
 
@@ -31,18 +32,11 @@ namespace {
 
 struct Row {
   std::string name;
-  AccuracyCollector acc4;
-  long frames3 = 0, tracked3 = 0, flips4 = 0;
+  TrackingTally tally;  // errors and flips over 4-dot frames
   bool tracks_all = true;  // false: only solves 4-dot frames with true labels
   double seconds = 0.0;
   long calls = 0;
 };
-
-int leds_seen(const DotFrame& f) {
-  int n = 0;
-  for (int l : f.truth->slot_led) n += l > 0 ? 1 : 0;
-  return n;
-}
 
 LabelledDots true_labels(const DotFrame& f) {
   LabelledDots d;
@@ -51,17 +45,7 @@ LabelledDots true_labels(const DotFrame& f) {
   return d;
 }
 
-void account(Row& r, const DotFrame& f, bool tracked, const Pose& p) {
-  const int leds = leds_seen(f);
-  if (leds >= 3) {
-    ++r.frames3;
-    r.tracked3 += tracked ? 1 : 0;
-  }
-  if (tracked && leds == 4) {
-    r.acc4.add(p, f.truth->pose);
-    r.flips4 += rotation_angle_between(p.R, f.truth->pose.R) > 20.0 * M_PI / 180.0 ? 1 : 0;
-  }
-}
+void account(Row& r, const DotFrame& f, bool tracked, const Pose& p) { r.tally.add(f, tracked, p); }
 
 template <class F>
 double timed(F&& fn, Row& r) {
@@ -107,11 +91,11 @@ void run(PixelModel pixels, const char* label, long frames, std::uint64_t seed, 
   for (const DotFrame& f : walk) {
     TrackResult r;
     timed([&] { r = thesis.process(f); }, rows[0]);
-    account(rows[0], f, r.state == TrackState::tracking, r.pose);
+    account(rows[0], f, r.state == PoseState::tracking, r.pose);
     timed([&] { r = lm.process(f); }, rows[1]);
-    account(rows[1], f, r.state == TrackState::tracking, r.pose);
+    account(rows[1], f, r.state == PoseState::tracking, r.pose);
     timed([&] { r = lm_euro.process(f); }, rows[2]);
-    account(rows[2], f, r.state == TrackState::tracking, r.pose);
+    account(rows[2], f, r.state == PoseState::tracking, r.pose);
     if (leds_seen(f) != 4) {
       cv_it.reset();  // ITERATIVE restarts from SQPNP after a gap
       continue;
@@ -132,23 +116,23 @@ void run(PixelModel pixels, const char* label, long frames, std::uint64_t seed, 
   std::printf("| method | tracked of 3+ dot frames | rot RMS (deg) | rot p95 | trans RMS (mm) | trans p95 | flipped 4-dot frames | us/frame |\n");
   std::printf("|---|---|---|---|---|---|---|---|\n");
   for (const Row& r : rows) {
-    const auto rot = r.acc4.rotation_deg(), tr = r.acc4.translation_mm();
+    const auto rot = r.tally.four_dot.rotation_deg(), tr = r.tally.four_dot.translation_mm();
     char tracked[64];
     if (r.tracks_all)
-      std::snprintf(tracked, sizeof tracked, "%.3f %%", 100.0 * static_cast<double>(r.tracked3) / static_cast<double>(r.frames3));
+      std::snprintf(tracked, sizeof tracked, "%.3f %%", 100.0 * static_cast<double>(r.tally.tracked_3plus) / static_cast<double>(r.tally.frames_3plus));
     else
       std::snprintf(tracked, sizeof tracked, "4-dot frames only");
     std::printf("| %s | %s | %.3f | %.3f | %.2f | %.2f | %ld | %.2f |\n", r.name.c_str(), tracked, rot.rms, rot.p95,
-                tr.rms, tr.p95, r.flips4, r.calls ? 1e6 * r.seconds / static_cast<double>(r.calls) : 0.0);
+                tr.rms, tr.p95, r.tally.flips_4dot, r.calls ? 1e6 * r.seconds / static_cast<double>(r.calls) : 0.0);
   }
-  const double best_cv = std::min(rows[3].acc4.rotation_deg().rms, rows[4].acc4.rotation_deg().rms);
-  const double best_cv_t = std::min(rows[3].acc4.translation_mm().rms, rows[4].acc4.translation_mm().rms);
-  const double ml_r = rows[5].acc4.rotation_deg().rms, ml_t = rows[5].acc4.translation_mm().rms;
+  const double best_cv = std::min(rows[3].tally.four_dot.rotation_deg().rms, rows[4].tally.four_dot.rotation_deg().rms);
+  const double best_cv_t = std::min(rows[3].tally.four_dot.translation_mm().rms, rows[4].tally.four_dot.translation_mm().rms);
+  const double ml_r = rows[5].tally.four_dot.rotation_deg().rms, ml_t = rows[5].tally.four_dot.translation_mm().rms;
   std::printf("\nlm / best OpenCV: rotation %.3f, translation %.3f; lm / ML limit: rotation %.3f, translation %.3f; "
               "lm + One Euro / ML limit: rotation %.3f, translation %.3f\n",
-              rows[1].acc4.rotation_deg().rms / best_cv, rows[1].acc4.translation_mm().rms / best_cv_t,
-              rows[1].acc4.rotation_deg().rms / ml_r, rows[1].acc4.translation_mm().rms / ml_t,
-              rows[2].acc4.rotation_deg().rms / ml_r, rows[2].acc4.translation_mm().rms / ml_t);
+              rows[1].tally.four_dot.rotation_deg().rms / best_cv, rows[1].tally.four_dot.translation_mm().rms / best_cv_t,
+              rows[1].tally.four_dot.rotation_deg().rms / ml_r, rows[1].tally.four_dot.translation_mm().rms / ml_t,
+              rows[2].tally.four_dot.rotation_deg().rms / ml_r, rows[2].tally.four_dot.translation_mm().rms / ml_t);
 }
 
 /// Latency of each filter on a head turning at a constant rate, and its

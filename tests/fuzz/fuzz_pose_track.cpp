@@ -1,4 +1,5 @@
-// Fuzzes the Pose track CSV reader: a track or InputError; interpolated poses
+// Fuzzes the Pose track CSV reader (tracker/pose_track_csv.hpp) through the
+// scenes::PoseTrack built on it: a track or InputError; interpolated poses
 // are finite with unit quaternions.
 #include <cmath>
 #include <cstdint>

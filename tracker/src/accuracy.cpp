@@ -30,3 +30,30 @@ void AccuracyCollector::add(const Pose& estimate, const Pose& truth) {
 }
 
 }  // namespace earshot::tracker
+
+namespace earshot::tracker {
+
+int leds_seen(const DotFrame& f) {
+  if (!f.truth) return f.visible();
+  int n = 0;
+  for (int l : f.truth->slot_led) n += l > 0 ? 1 : 0;
+  return n;
+}
+
+void TrackingTally::add(const DotFrame& f, bool tracked, const Pose& estimate) {
+  const int leds = leds_seen(f);
+  if (leds >= 3) {
+    ++frames_3plus;
+    tracked_3plus += tracked ? 1 : 0;
+  }
+  if (!tracked || !f.truth) return;
+  const bool flip = rotation_angle_between(estimate.R, f.truth->pose.R) > kFlipDeg * std::numbers::pi / 180.0;
+  all.add(estimate, f.truth->pose);
+  flips += flip ? 1 : 0;
+  if (leds == 4) {
+    four_dot.add(estimate, f.truth->pose);
+    flips_4dot += flip ? 1 : 0;
+  }
+}
+
+}  // namespace earshot::tracker

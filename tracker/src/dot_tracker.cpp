@@ -64,7 +64,7 @@ TrackResult DotTracker::process_thesis(const DotFrame& frame) {
   if (!dots) return r;  // state lost: the thesis drops incomplete frames
   const auto pose = thesis_solver_->solve({dots->view(), nullptr});
   if (!pose) return r;
-  r.state = TrackState::tracking;
+  r.state = PoseState::tracking;
   r.raw_pose = *pose;
   r.dots_used = 4;
   r.rms_px = rms_reprojection_error(*pose, dots->view(), cam_, model_);
@@ -180,7 +180,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   for (const auto& h : hyps_)
     if (h.dots > 0 && (!best || h.cost_sum < best->cost_sum)) best = &h;
   if (best) {
-    r.state = TrackState::tracking;
+    r.state = PoseState::tracking;
     r.raw_pose = best->pose;
     r.rms_px = best->rms;
     r.dots_used = best->dots;
@@ -190,7 +190,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
 }
 
 TrackResult DotTracker::finish(TrackResult r) {
-  if (r.state == TrackState::tracking) {
+  if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
     last_solve_t_ = r.t;
     last_raw_ = r.raw_pose;
@@ -201,19 +201,19 @@ TrackResult DotTracker::finish(TrackResult r) {
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s && cfg_.method == SolverMethod::lm) {
     if (auto p = cv_.predict(r.t)) {
-      r.state = TrackState::predicted;
+      r.state = PoseState::predicted;
       r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
     }
   }
-  if (r.state == TrackState::lost) {
+  if (r.state == PoseState::lost) {
     if (last_output_) r.pose = *last_output_;  // hold the last pose
   }
   if (!r.pose.finite()) {  // never pass a bad number on
-    r.state = TrackState::lost;
+    r.state = PoseState::lost;
     r.pose = last_output_.value_or(Pose{});
   }
-  r.has_pose = r.state != TrackState::lost || last_output_.has_value();
-  if (r.state != TrackState::lost) last_output_ = r.pose;
+  r.has_pose = r.state != PoseState::lost || last_output_.has_value();
+  if (r.state != PoseState::lost) last_output_ = r.pose;
   return r;
 }
 

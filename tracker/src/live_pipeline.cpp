@@ -19,16 +19,6 @@ WorldPose interpolate(const WorldPose& a, const WorldPose& b, double u) {
 
 bool finite(const WorldPose& w) { return w.R.allFinite() && w.p.allFinite(); }
 
-PoseState state_of(TrackState s) {
-  switch (s) {
-    case TrackState::tracking: return PoseState::tracking;
-    case TrackState::predicted: return PoseState::predicted;
-    case TrackState::searching: return PoseState::searching;
-    case TrackState::lost: return PoseState::lost;
-  }
-  return PoseState::lost;
-}
-
 }  // namespace
 
 Mat3 camera_to_audio() { return Vec3(-1.0, -1.0, 1.0).asDiagonal(); }
@@ -42,11 +32,6 @@ Vec3 remote_accel_to_camera(const Vec3& a) {
   // Camera +x (right) = remote -x, +y (down) = remote -z, +z (where the
   // camera looks, the remote's front) = remote -y.
   return {-a.x(), -a.z(), -a.y()};
-}
-
-Quat audio_ypr(double yaw, double pitch, double roll) {
-  return Quat(Eigen::AngleAxisd(yaw, Vec3::UnitY()) * Eigen::AngleAxisd(pitch, Vec3::UnitX()) *
-              Eigen::AngleAxisd(-roll, Vec3::UnitZ()));
 }
 
 LivePipeline::LivePipeline(LiveConfig cfg) : cfg_(cfg), tracker_(cfg.camera, cfg.model, cfg.tracker) {}
@@ -93,7 +78,7 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
 
   last_track_ = tracker_.process(dots);
   const TrackResult& r = last_track_;
-  if (r.state == TrackState::lost || !r.pose.finite()) return lost_pose(dots.t);
+  if (r.state == PoseState::lost || !r.pose.finite()) return lost_pose(dots.t);
 
   const Pose& head = r.pose;  // camera frame, mm
   if (recenter_pending_ || !reference_ || direct_) {
@@ -104,7 +89,7 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
   const Mat3 A = camera_to_audio() * level_;
   const Mat3 rel = head.R * reference_->R.transpose();
   const WorldPose w{A * rel * A.transpose(), A * (head.t - reference_->p) * 1e-3};
-  return good(dots.t, w, state_of(r.state));
+  return good(dots.t, w, r.state);
 }
 
 std::optional<HeadPose> LivePipeline::on_pose(const DirectPose& p) {
@@ -166,11 +151,11 @@ HeadPose LivePipeline::emit(double t, const WorldPose& w, PoseState s) {
   ++counters_.poses;
   HeadPose h;
   h.t = t;
-  h.position = {out_.p.x(), out_.p.y(), out_.p.z()};
+  h.position = to_common(out_.p);
   Quat q(out_.R);
   q.normalize();
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
-  h.orientation = {q.w(), q.x(), q.y(), q.z()};
+  h.orientation = to_common(q);
   h.state = s;
   return h;
 }

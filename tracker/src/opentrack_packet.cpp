@@ -55,7 +55,7 @@ DirectPose opentrack_to_pose(const OpentrackPacket& p) {
   constexpr double deg = std::numbers::pi / 180.0;
   DirectPose d;
   d.position_m = Vec3(p.x_cm, p.y_cm, -p.z_cm) * 0.01;
-  d.orientation = audio_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, p.roll_deg * deg);
+  d.orientation = to_eigen(quat_from_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, p.roll_deg * deg));
   return d;
 }
 

@@ -77,7 +77,7 @@ std::optional<PoseMessage> handle(std::string_view path, std::string_view types,
     constexpr double deg = std::numbers::pi / 180.0;
     for (std::size_t i = pos; i < pos + 3; ++i)
       if (std::abs((*v)[i]) > 720.0) return drop(why, where + ": angle beyond 720 degrees");
-    d.orientation = audio_ypr((*v)[pos] * deg, (*v)[pos + 1] * deg, (*v)[pos + 2] * deg);
+    d.orientation = to_eigen(quat_from_ypr((*v)[pos] * deg, (*v)[pos + 1] * deg, (*v)[pos + 2] * deg));
   }
   return PoseMessage{d, false};
 }

@@ -9,22 +9,6 @@
 
 namespace earshot::tracker {
 
-std::string_view to_string(TrackState s) {
-  switch (s) {
-    case TrackState::searching: return "searching";
-    case TrackState::tracking: return "tracking";
-    case TrackState::predicted: return "predicted";
-    case TrackState::lost: return "lost";
-  }
-  return "lost";
-}
-
-std::optional<TrackState> track_state_from(std::string_view s) {
-  for (auto st : {TrackState::searching, TrackState::tracking, TrackState::predicted, TrackState::lost})
-    if (to_string(st) == s) return st;
-  return std::nullopt;
-}
-
 PosesCsvWriter::PosesCsvWriter(std::ostream& out) : out_(out) {
   out_ << "t_s,state,tx_mm,ty_mm,tz_mm,qw,qx,qy,qz\n";
 }
@@ -33,7 +17,7 @@ void PosesCsvWriter::write(const PoseRecord& r) {
   if (!r.pose.finite() || !std::isfinite(r.t))
     throw std::logic_error("PosesCsvWriter: refusing to write a non-finite pose");
   const Quat q = r.pose.quaternion();
-  out_ << std::setprecision(10) << r.t << ',' << to_string(r.state) << std::setprecision(8) << ','
+  out_ << std::setprecision(10) << r.t << ',' << pose_state_name(r.state) << std::setprecision(8) << ','
        << r.pose.t.x() << ',' << r.pose.t.y() << ',' << r.pose.t.z() << ',' << q.w() << ','
        << q.x() << ',' << q.y() << ',' << q.z() << '\n';
 }
@@ -58,7 +42,7 @@ std::optional<PoseRecord> PosesCsvReader::next() {
       throw InputError::at(origin_, line_, "", "expected 9 fields, found " + std::to_string(f.size()));
     PoseRecord r;
     r.t = csv::number(f[0], origin_, line_, cols[0]);
-    const auto st = track_state_from(csv::trim(f[1]));
+    const auto st = pose_state_from_name(csv::trim(f[1]));
     if (!st) throw InputError::at(origin_, line_, "state", "unknown state '" + std::string(f[1]) + "'");
     r.state = *st;
     double v[7];

@@ -19,6 +19,7 @@
 #include "audio_output.hpp"
 #include "block_render.hpp"
 #include "earshot/errors.hpp"
+#include "earshot/geometry.hpp"
 #include "earshot/host/wav_writer.hpp"
 #include "earshot/stop_signals.hpp"
 #include "keys.hpp"
@@ -31,10 +32,9 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
-/// Yaw of the head in degrees: the angle of its forward axis (-z) about +y.
+/// Yaw of the head in degrees (the plugin hands the orientation as floats).
 double yaw_deg(const float q[4]) {
-  const double fx = -2 * (q[1] * q[3] + q[0] * q[2]), fz = -(1 - 2 * (q[1] * q[1] + q[2] * q[2]));
-  return std::atan2(-fx, -fz) * 180.0 / std::numbers::pi;
+  return ypr_from_quat({q[0], q[1], q[2], q[3]}).yaw * 180.0 / std::numbers::pi;
 }
 
 /// The terminal in raw, non-blocking mode while it lives (keys without Enter).

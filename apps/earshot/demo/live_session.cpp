@@ -43,7 +43,7 @@ NamedScene load_demo_scene(const std::string& arg, const std::string& room) {
     s = read_scene("circles");
     s.error = error;
   }
-  if (!room.empty()) s.scene.room = host::checked_room(room, "--room");
+  if (!room.empty()) s.scene.room = scenes::checked_room_name(room, "--room");
   return s;
 }
 

@@ -9,18 +9,19 @@
 #include "earshot/earshot_openal_bridge.h"
 #include "earshot/pose_slot.hpp"
 #include "earshot/tracker/live_tracker.hpp"
-#include "orientation.hpp"
-#include "tracker_spec.hpp"
+#include "earshot/geometry.hpp"
+#include "earshot/tracker/source_spec.hpp"
 
-using namespace earshot::plugin;
+using earshot::Quat;
+using earshot::Vec3;
 
 struct ESALbridge {
   earshot::PoseSlot slot;  // the tracker's
   std::unique_ptr<earshot::tracker::LiveTracker> tracker;
-  Vec3d listener_position{0, 0, 0};
-  Quat4 listener_orientation{1, 0, 0, 0};
-  Vec3d head_position{0, 0, 0};
-  Quat4 head_orientation{1, 0, 0, 0};
+  Vec3 listener_position{0, 0, 0};
+  Quat listener_orientation{1, 0, 0, 0};
+  Vec3 head_position{0, 0, 0};
+  Quat head_orientation{1, 0, 0, 0};
 };
 
 namespace {
@@ -34,7 +35,12 @@ ES_API ESenum esalCreateBridge(const char* spec, ESALbridge** out) {
   *out = nullptr;
   try {
     auto b = std::make_unique<ESALbridge>();
-    if (spec && *spec) b->tracker = std::make_unique<earshot::tracker::LiveTracker>(make_frame_source(spec), b->slot);
+    if (spec && *spec) {
+      earshot::tracker::SourceOptions source;
+      source.wait_for_remote = true;  // no remote yet: the application plays on
+      b->tracker = std::make_unique<earshot::tracker::LiveTracker>(
+          earshot::tracker::make_frame_source(earshot::tracker::parse_source_spec(spec, "tracker"), source), b->slot);
+    }
     *out = b.release();  // owned by the application until esalDestroyBridge
     return ES_OK;
   } catch (const std::bad_alloc&) {
@@ -48,7 +54,7 @@ ES_API void esalDestroyBridge(ESALbridge* b) { std::unique_ptr<ESALbridge> owned
 
 ES_API ESenum esalBridgeSetListener(ESALbridge* b, const ESfloat* position, const ESfloat* at_up) {
   if (!b || !position || !at_up || !finite3(position)) return ES_INVALID_VALUE;
-  const auto q = quat_from_at_up(Vec3d{at_up[0], at_up[1], at_up[2]}, Vec3d{at_up[3], at_up[4], at_up[5]});
+  const auto q = earshot::quat_from_at_up(Vec3{at_up[0], at_up[1], at_up[2]}, Vec3{at_up[3], at_up[4], at_up[5]});
   if (!q) return ES_INVALID_VALUE;
   b->listener_position = {position[0], position[1], position[2]};
   b->listener_orientation = *q;
@@ -57,7 +63,7 @@ ES_API ESenum esalBridgeSetListener(ESALbridge* b, const ESfloat* position, cons
 
 ES_API ESenum esalBridgeSetHeadPose(ESALbridge* b, const ESfloat* position, const ESfloat* orientation) {
   if (!b || !position || !orientation || !finite3(position)) return ES_INVALID_VALUE;
-  const auto q = normalised(Quat4{orientation[0], orientation[1], orientation[2], orientation[3]});
+  const auto q = earshot::normalised(Quat{orientation[0], orientation[1], orientation[2], orientation[3]});
   if (!q) return ES_INVALID_VALUE;
   b->head_position = {position[0], position[1], position[2]};
   b->head_orientation = *q;
@@ -79,9 +85,9 @@ ES_API ESenum esalBridgeUpdate(ESALbridge* b) {
     }
   }
   if (!alcGetCurrentContext()) return ES_INVALID_OPERATION;
-  const Quat4 q = multiply(b->listener_orientation, b->head_orientation);
-  const Vec3d offset = rotate(b->listener_orientation, b->head_position);
-  const Vec3d at = rotate(q, {0, 0, -1}), up = rotate(q, {0, 1, 0});
+  const Quat q = earshot::multiply(b->listener_orientation, b->head_orientation);
+  const Vec3 offset = earshot::rotate(b->listener_orientation, b->head_position);
+  const Vec3 at = earshot::rotate(q, {0, 0, -1}), up = earshot::rotate(q, {0, 1, 0});
   const ALfloat pos[3] = {static_cast<ALfloat>(b->listener_position[0] + offset[0]),
                           static_cast<ALfloat>(b->listener_position[1] + offset[1]),
                           static_cast<ALfloat>(b->listener_position[2] + offset[2])};

@@ -10,6 +10,7 @@
 #include "earshot/audio/renderer.hpp"
 
 using namespace earshot::audio;
+using earshot::quat_from_ypr;
 
 namespace {
 

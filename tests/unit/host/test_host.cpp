@@ -16,6 +16,7 @@
 #include "earshot/host/tracker_status.hpp"
 #include "earshot/host/wav_writer.hpp"
 #include "earshot/host/world_handle.hpp"
+#include "earshot/scenes/scene.hpp"
 
 namespace {
 
@@ -67,12 +68,11 @@ TEST(HostDistanceModels, EveryModelHasItsOwnPluginValueAndIndex) {
   EXPECT_EQ(host::es_distance_model(audio::DistanceModel::none), ES_NONE);
 }
 
-TEST(HostRooms, PresetsPassAndAnUnknownRoomIsNamedWithTheChoices) {
-  EXPECT_EQ(host::checked_room("none", "--room"), "none");
-  EXPECT_EQ(host::checked_room("concert-hall", "--room"), "concert-hall");
+TEST(HostRooms, EveryListedRoomPassesTheSceneCheckAndAnUnknownOneIsNamed) {
   EXPECT_EQ(host::room_names().front(), "none");
+  for (const auto& r : host::room_names()) EXPECT_EQ(scenes::checked_room_name(r, "--room"), r);
   try {
-    (void)host::checked_room("nope", "--room");
+    (void)scenes::checked_room_name("nope", "--room");
     FAIL() << "no error";
   } catch (const InputError& e) {
     const std::string m = e.what();
@@ -200,7 +200,7 @@ TEST(HostListener, TheScenesListenerIsTurnedByItsYaw) {
   l.position = {1, 2, 3};
   l.yaw_deg = 90;
   const auto s = host::fixed_listener(l);
-  EXPECT_EQ(s.position, (audio::Vec3{1, 2, 3}));
+  EXPECT_EQ(s.position, (earshot::Vec3{1, 2, 3}));
   EXPECT_NEAR(std::abs(s.orientation[0]), std::sqrt(0.5), 1e-9);
   EXPECT_NEAR(std::abs(s.orientation[2]), std::sqrt(0.5), 1e-9);
 }

@@ -26,7 +26,7 @@
 #include "earshot/hrtf/sphere_triangulation.hpp"
 
 using earshot::hrtf::Blend;
-using earshot::hrtf::Dir;
+using Dir = earshot::Vec3;
 using earshot::hrtf::SphereTriangulation;
 
 namespace {

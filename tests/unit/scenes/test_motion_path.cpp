@@ -10,13 +10,14 @@
 #include "earshot/scenes/scene.hpp"
 
 using namespace earshot::scenes;
+using earshot::Vec3;
 
 namespace {
 
-double dist(const Point3& a, const Point3& b) {
+double dist(const Vec3& a, const Vec3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
 }
-void expect_near(const Point3& got, const Point3& want, double tol = 1e-9) {
+void expect_near(const Vec3& got, const Vec3& want, double tol = 1e-9) {
   EXPECT_LT(dist(got, want), tol) << "got [" << got[0] << ", " << got[1] << ", " << got[2] << "] want [" << want[0]
                                   << ", " << want[1] << ", " << want[2] << "]";
 }
@@ -75,7 +76,7 @@ TEST(MotionPath, CircleInTheFrontalAndMedianPlanes) {
   c.start_s = 3;
   expect_near(path_position(c, 0), path_position(c, 3));  // holds its start until start_s
   for (double t = 3; t < 8; t += 0.41) {
-    const Point3 p = path_position(c, t);
+    const Vec3 p = path_position(c, t);
     EXPECT_NEAR(p[0] + p[1] + p[2], 0.0, 1e-12);
     EXPECT_NEAR(dist(p, {0, 0, 0}), 1.0, 1e-12);
   }

@@ -163,3 +163,20 @@ TEST(SceneRender, PluginPathReportsBadInputByName) {
   fine.out = dir / "fine.wav";
   EXPECT_EQ(render_scene(one, fine).frames, 4800u);
 }
+
+TEST(SceneRoom, NamesAreCheckedAgainstThePresetTable) {
+  EXPECT_TRUE(is_room_name("none"));
+  EXPECT_TRUE(is_room_name("generic"));
+  EXPECT_TRUE(is_room_name("default"));  // generic's other name
+  EXPECT_FALSE(is_room_name("Generic"));
+  EXPECT_FALSE(is_room_name("\", \"sources\": [{"));  // text that would have broken JSON built from it
+  EXPECT_EQ(checked_room_name("hallway", "--room"), "hallway");
+  try {
+    (void)checked_room_name("bogus", "--room");
+    ADD_FAILURE() << "bogus accepted";
+  } catch (const earshot::InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--room: unknown room preset 'bogus' (available: none, generic, ", 0), 0u) << e.what();
+  }
+  EXPECT_NE(parse_error(R"({"room": "bogus", "sources": []})").find("field 'room': unknown room preset 'bogus'"),
+            std::string::npos);
+}

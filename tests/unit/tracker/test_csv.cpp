@@ -8,6 +8,7 @@
 #include "earshot/tracker/poses_csv.hpp"
 
 using namespace earshot::tracker;
+using earshot::PoseState;
 using earshot::InputError;
 
 namespace {
@@ -84,11 +85,11 @@ TEST(PosesCsv, NeverWritesANonFinitePose) {
 TEST(PosesCsv, RoundTrips) {
   std::stringstream ss;
   PosesCsvWriter w(ss);
-  w.write({0.5, TrackState::predicted, {rotation_from_ypr(0.3, 0, -0.2), Vec3(1, 2, 3)}});
+  w.write({0.5, PoseState::predicted, {rotation_from_ypr(0.3, 0, -0.2), Vec3(1, 2, 3)}});
   PosesCsvReader r(ss, "mem");
   const auto p = r.next();
   ASSERT_TRUE(p.has_value());
-  EXPECT_EQ(p->state, TrackState::predicted);
+  EXPECT_EQ(p->state, PoseState::predicted);
   EXPECT_NEAR(p->pose.t.z(), 3.0, 1e-9);
 }
 

@@ -60,9 +60,9 @@ TEST(LiveConventions, CameraToAudioFacesTheUser) {
 
 TEST(LiveConventions, AudioYawPitchRoll) {
   // Positive yaw turns left, positive pitch looks up, positive roll tilts right.
-  EXPECT_TRUE((audio_ypr(90 * kDeg, 0, 0) * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));
-  EXPECT_TRUE((audio_ypr(0, 90 * kDeg, 0) * Vec3(0, 0, -1)).isApprox(Vec3(0, 1, 0), 1e-12));
-  EXPECT_TRUE((audio_ypr(0, 0, 90 * kDeg) * Vec3(0, 1, 0)).isApprox(Vec3(1, 0, 0), 1e-12));
+  EXPECT_TRUE((to_eigen(earshot::quat_from_ypr(90 * kDeg, 0, 0)) * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));
+  EXPECT_TRUE((to_eigen(earshot::quat_from_ypr(0, 90 * kDeg, 0)) * Vec3(0, 0, -1)).isApprox(Vec3(0, 1, 0), 1e-12));
+  EXPECT_TRUE((to_eigen(earshot::quat_from_ypr(0, 0, 90 * kDeg)) * Vec3(0, 1, 0)).isApprox(Vec3(1, 0, 0), 1e-12));
 }
 
 TEST(LiveConventions, RemoteAccelerometerInCameraFrame) {

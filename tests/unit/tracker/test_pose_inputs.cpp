@@ -10,7 +10,8 @@
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/opentrack_packet.hpp"
 #include "earshot/tracker/osc_pose.hpp"
-#include "earshot/tracker/pose_track_writer.hpp"
+#include "earshot/errors.hpp"
+#include "earshot/tracker/pose_track_csv.hpp"
 
 using namespace earshot::tracker;
 
@@ -67,7 +68,7 @@ TEST(Osc, AddressesAndTypes) {
   EXPECT_TRUE(m->pose->position_m.isApprox(Vec3(0.1, 0.2, -0.3)));
   EXPECT_TRUE((m->pose->orientation * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));  // yaw 90 = left
 
-  const Quat q = audio_ypr(0, 0, 30 * kDeg);
+  const Quat q = to_eigen(earshot::quat_from_ypr(0, 0, 30 * kDeg));
   const std::array<double, 7> quat{0, 0, 0, q.w(), q.x(), q.y(), q.z()};
   m = decode_osc(encode_osc("/earshot/pose/quat", quat), &why);
   ASSERT_TRUE(m && m->pose) << why;
@@ -143,9 +144,9 @@ TEST(UdpPoseSources, LoopbackPacketsBecomePosesAndBadOnesAreCounted) {
   EXPECT_TRUE(recenter);
 }
 
-TEST(PoseTrackWriter, WritesTheRendererContractAndSkipsStaleRows) {
+TEST(PoseTrackCsv, WritesTheRendererContractAndSkipsStaleRows) {
   std::ostringstream out;
-  PoseTrackWriter w(out);
+  PoseTrackCsvWriter w(out);
   earshot::HeadPose p;
   p.t = 0.5;
   p.position = {0.1, 0.0, -0.2};
@@ -155,4 +156,40 @@ TEST(PoseTrackWriter, WritesTheRendererContractAndSkipsStaleRows) {
   p.position[0] = std::nan("");
   EXPECT_FALSE(w.write(p));
   EXPECT_EQ(out.str(), "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n0.5,0.1,0,-0.2,1,0,0,0\n");
+}
+
+TEST(PoseTrackCsv, ReadsWhatItWrites) {
+  std::stringstream io;
+  PoseTrackCsvWriter w(io);
+  earshot::HeadPose p;
+  p.t = 0.25;
+  p.position = {0.1, -0.2, 0.3};
+  p.orientation = earshot::quat_from_ypr(0.4, -0.1, 0.2);
+  ASSERT_TRUE(w.write(p));
+  p.t = 0.5;
+  ASSERT_TRUE(w.write(p));
+  const auto rows = read_pose_track_csv(io, "mem");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[1].t, 0.5);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(rows[0].position[i], p.position[i], 1e-8);
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(rows[0].orientation[i], p.orientation[i], 1e-8);
+}
+
+TEST(PoseTrackCsv, BadInputNamesFileLineAndField) {
+  auto error_of = [](const std::string& text) -> std::string {
+    std::istringstream in(text);
+    try {
+      (void)read_pose_track_csv(in, "track.csv");
+    } catch (const earshot::InputError& e) {
+      return e.what();
+    }
+    return "(no error)";
+  };
+  const std::string h = "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n";
+  EXPECT_EQ(error_of("time,x\n"), "track.csv:1: field 't_s': expected the header t_s,x_m,y_m,z_m,qw,qx,qy,qz");
+  EXPECT_EQ(error_of(h), "track.csv: no poses in the track");
+  EXPECT_EQ(error_of(h + "0,0,0,0,1,0,0\n"), "track.csv:2: expected 8 fields, found 7");
+  EXPECT_EQ(error_of(h + "0,0,abc,0,1,0,0,0\n"), "track.csv:2: field 'y_m': not a number: 'abc'");
+  EXPECT_EQ(error_of(h + "0,0,0,0,0.5,0,0,0\n"), "track.csv:2: field 'qw': quaternion is not unit length");
+  EXPECT_EQ(error_of(h + "1,0,0,0,1,0,0,0\n1,0,0,0,1,0,0,0\n"), "track.csv:3: field 't_s': times must increase");
 }

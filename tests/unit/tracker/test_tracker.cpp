@@ -8,6 +8,7 @@
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;
+using earshot::PoseState;
 
 namespace {
 struct WalkResult {
@@ -28,9 +29,9 @@ WalkResult walk(TrackerConfig tcfg, SimulatorConfig scfg, int frames, const Came
     for (int l : f.truth->slot_led) leds += l > 0;
     if (leds >= 3) {
       ++w.frames3;
-      w.tracked3 += r.state == TrackState::tracking;
+      w.tracked3 += r.state == PoseState::tracking;
     }
-    if (r.state == TrackState::tracking) {
+    if (r.state == PoseState::tracking) {
       w.acc.add(r.pose, f.truth->pose);
       if (leds == 4) w.acc4.add(r.pose, f.truth->pose);
       w.flips += rotation_angle_between(r.pose.R, f.truth->pose.R) > 0.35;
@@ -61,11 +62,11 @@ TEST(DotTracker, TracksThreeDotFrames) {
   const LedModel model;
   DotTracker tracker(cam, model);
   const Pose p0{rotation_from_ypr(0.1, 0.05, 1.0), Vec3(20, 10, 1000)};
-  ASSERT_EQ(tracker.process(fixtures::frame_of(p0, cam, model, {2, 0, 3, 1}, 0.0)).state, TrackState::tracking);
+  ASSERT_EQ(tracker.process(fixtures::frame_of(p0, cam, model, {2, 0, 3, 1}, 0.0)).state, PoseState::tracking);
   for (int i = 1; i < 50; ++i) {
     const Pose p{rotation_from_ypr(0.1 + 0.005 * i, 0.05, 1.0), Vec3(20 + i, 10, 1000)};
     const auto r = tracker.process(fixtures::frame_of(p, cam, model, {2, -1, 3, 1}, 0.01 * i));
-    ASSERT_EQ(r.state, TrackState::tracking) << "frame " << i;
+    ASSERT_EQ(r.state, PoseState::tracking) << "frame " << i;
     EXPECT_EQ(r.dots_used, 3);
     EXPECT_LT(rotation_angle_between(r.pose.R, p.R), 0.01);  // MAP with the motion prior
   }
@@ -76,12 +77,12 @@ TEST(DotTracker, PredictsThenLosesThenReacquires) {
   const LedModel model;
   DotTracker tracker(cam, model);
   const Pose p{Mat3::Identity(), Vec3(0, 0, 1000)};
-  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, 1, 2, 3}, 0.0)).state, TrackState::tracking);
-  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, -1, -1, 3}, 0.01)).state, TrackState::predicted);
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, 1, 2, 3}, 0.0)).state, PoseState::tracking);
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {0, -1, -1, 3}, 0.01)).state, PoseState::predicted);
   const auto lost = tracker.process(fixtures::frame_of(p, cam, model, {-1, -1, -1, -1}, 0.5));
-  EXPECT_EQ(lost.state, TrackState::lost);
+  EXPECT_EQ(lost.state, PoseState::lost);
   EXPECT_TRUE(lost.has_pose);  // holds the last pose
-  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {3, 2, 1, 0}, 0.51)).state, TrackState::tracking);
+  EXPECT_EQ(tracker.process(fixtures::frame_of(p, cam, model, {3, 2, 1, 0}, 0.51)).state, PoseState::tracking);
 }
 
 TEST(DotTracker, IntegerPixelWalkWithDropoutsAndStrays) {

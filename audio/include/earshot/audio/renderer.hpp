@@ -32,12 +32,12 @@
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
+#include "earshot/geometry.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
 namespace earshot::audio {
 
-using Vec3 = std::array<double, 3>;
-using Quat = std::array<double, 4>;  ///< w, x, y, z
+// Points and orientations are earshot::Vec3 and earshot::Quat (earshot/geometry.hpp).
 
 struct RendererConfig {
   double sample_rate = 48000.0;
@@ -73,11 +73,6 @@ struct HeadRelative {
   double azimuth = 0.0, elevation = 0.0, distance = 0.0;
 };
 [[nodiscard]] HeadRelative head_relative(const Vec3& point, const ListenerState& listener);
-
-/// Unit quaternion from people's angles (radians): yaw about +y (turns the
-/// head left), then pitch about +x (looks up), then roll about -z (tilts to
-/// the right shoulder).
-[[nodiscard]] Quat quat_from_ypr(double yaw, double pitch, double roll);
 
 class Renderer {
  public:

@@ -58,7 +58,11 @@ struct RoomPreset {
 [[nodiscard]] std::span<const RoomPreset> room_presets();
 
 /// The preset called `name` ("default" is "generic", "musical-plate" is
-/// "plate"). Throws earshot::InputError naming it and listing the valid names.
+/// "plate"), or nullptr when there is none.
+[[nodiscard]] const RoomParams* find_room_preset(std::string_view name);
+
+/// The preset called `name`, as find_room_preset. Throws
+/// earshot::InputError naming it and listing the valid names.
 [[nodiscard]] const RoomParams& room_preset(std::string_view name);
 
 /// "generic, padded-cell, ..." for messages and --help.

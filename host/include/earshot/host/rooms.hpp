@@ -10,9 +10,6 @@ namespace earshot::host {
 
 /// "none", then every room preset.
 [[nodiscard]] std::vector<std::string> room_names();
-
-/// `room` when it is "none" or a preset; else throws earshot::InputError
-/// "origin: unknown room preset 'x' (available: none, ...)".
-[[nodiscard]] std::string checked_room(std::string_view room, std::string_view origin);
+// Checking a room name given outside Scene JSON: scenes::checked_room_name.
 
 }  // namespace earshot::host

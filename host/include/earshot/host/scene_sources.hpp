@@ -44,7 +44,7 @@ class SceneSources {
   /// first move() since load() (offline: t is the block's start, from 0).
   void move(double t);
   /// Where source `i` is at `t` (the clock of move()).
-  [[nodiscard]] scenes::Point3 position(std::size_t i, double t) const;
+  [[nodiscard]] Vec3 position(std::size_t i, double t) const;
 
   // Live edits of source `i` (a host's controls).
   /// A new sound; throws (changing nothing) when it cannot be made.

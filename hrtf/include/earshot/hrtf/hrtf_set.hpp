@@ -112,7 +112,7 @@ class HrtfSet {
                                           std::uint32_t hint = SphereTriangulation::kNoHint) const;
   /// The same for a unit vector in SOFA's frame (x ahead, y left, z up):
   /// no trigonometry unless the ITD is parametric.
-  [[nodiscard]] Interpolation interpolate(const Dir& direction,
+  [[nodiscard]] Interpolation interpolate(const Vec3& direction,
                                           std::uint32_t hint = SphereTriangulation::kNoHint) const;
 
   /// With a head radius, lookup returns Woodworth delays (both ears around

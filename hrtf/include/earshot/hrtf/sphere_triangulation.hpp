@@ -9,9 +9,10 @@
 #include <span>
 #include <vector>
 
+#include "earshot/geometry.hpp"
+
 namespace earshot::hrtf {
 
-using Dir = std::array<double, 3>;  ///< unit vector
 
 /// Three measurement indices and their weights (non-negative, sum 1).
 struct Blend {
@@ -27,12 +28,12 @@ class SphereTriangulation {
   /// std::invalid_argument when fewer than four differ, when they lie in one
   /// plane (a ring), or within one hemisphere (the hull must surround the
   /// centre, or the far side would have no triangle to blend).
-  explicit SphereTriangulation(std::span<const Dir> dirs);
+  explicit SphereTriangulation(std::span<const Vec3> dirs);
 
   /// Weights of the triangle the ray through `d` crosses. No allocation.
   /// `hint`: a triangle to try first (a moving source is usually still in
   /// the one it was in last block).
-  [[nodiscard]] Blend locate(const Dir& d, std::uint32_t hint = kNoHint) const;
+  [[nodiscard]] Blend locate(const Vec3& d, std::uint32_t hint = kNoHint) const;
   static constexpr std::uint32_t kNoHint = 0xffffffffu;
 
   [[nodiscard]] std::size_t triangle_count() const { return tris_.size(); }
@@ -44,8 +45,8 @@ class SphereTriangulation {
     std::array<std::uint32_t, 3> v;
     std::array<double, 9> inv;  // inverse of [a b c] (columns), row-major
   };
-  [[nodiscard]] bool weights(const Triangle& t, const Dir& d, std::array<double, 3>& w) const;
-  [[nodiscard]] std::size_t cell_of(const Dir& d) const;
+  [[nodiscard]] bool weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const;
+  [[nodiscard]] std::size_t cell_of(const Vec3& d) const;
 
   std::vector<Triangle> tris_;
   // Acceleration grid over azimuth x elevation: candidate triangles per cell.

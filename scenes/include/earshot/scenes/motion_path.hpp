@@ -37,14 +37,14 @@
 #include <variant>
 #include <vector>
 
+#include "earshot/geometry.hpp"
+
 namespace earshot::scenes {
 
-using Point3 = std::array<double, 3>;
-
 struct CirclePath {
-  Point3 centre{0, 0, 0};
+  Vec3 centre{0, 0, 0};
   double radius = 1.0;            ///< metres, > 0
-  Point3 normal{0, 1, 0};         ///< axis of the circle's plane (any length > 0)
+  Vec3 normal{0, 1, 0};         ///< axis of the circle's plane (any length > 0)
   double period_s = 10.0;         ///< one turn
   double phase_deg = 0.0;         ///< angle at start_s
   bool clockwise = false;         ///< seen from the tip of the normal
@@ -53,14 +53,14 @@ struct CirclePath {
 
 struct LinePath {
   enum class Mode { once, loop, ping_pong };
-  Point3 from{-10, 0, -2}, to{10, 0, -2};
+  Vec3 from{-10, 0, -2}, to{10, 0, -2};
   double speed_mps = 1.0;         ///< > 0
   Mode mode = Mode::once;
   double start_s = 0.0;
 };
 
 struct WaypointPath {
-  std::vector<Point3> points;     ///< at least two
+  std::vector<Vec3> points;     ///< at least two
   double speed_mps = 1.0;         ///< > 0
   bool loop = false;
   double start_s = 0.0;
@@ -69,10 +69,10 @@ struct WaypointPath {
 using MotionPath = std::variant<CirclePath, LinePath, WaypointPath>;
 
 /// The position on the path at time t (seconds). Pure: no state, any t.
-[[nodiscard]] Point3 path_position(const MotionPath& path, double t);
+[[nodiscard]] Vec3 path_position(const MotionPath& path, double t);
 
 /// The normal of a named plane: "xz" -> +y, "xy" -> +z, "yz" -> +x; none
 /// for any other name.
-[[nodiscard]] std::optional<Point3> plane_normal(std::string_view plane);
+[[nodiscard]] std::optional<Vec3> plane_normal(std::string_view plane);
 
 }  // namespace earshot::scenes

@@ -1,6 +1,6 @@
-// Pose track CSV (contract): t_s,x_m,y_m,z_m,qw,qx,qy,qz: the listener in
-// the audio world frame over time, interpolated between rows (position
-// linearly, orientation by slerp); held before the first and after the last.
+// A listener pose track: a Pose track CSV (tracker/pose_track_csv.hpp, the
+// file format and its reader) interpolated in time: position linearly,
+// orientation by slerp; held before the first row and after the last.
 #pragma once
 
 #include <filesystem>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "earshot/audio/renderer.hpp"
+#include "earshot/tracker/pose_track_csv.hpp"
 
 namespace earshot::scenes {
 
@@ -22,12 +23,8 @@ class PoseTrack {
   [[nodiscard]] std::size_t size() const { return rows_.size(); }
 
  private:
-  struct Row {
-    double t;
-    audio::Vec3 p;
-    audio::Quat q;
-  };
-  std::vector<Row> rows_;
+  explicit PoseTrack(std::vector<tracker::PoseTrackRow> rows) : rows_(std::move(rows)) {}
+  std::vector<tracker::PoseTrackRow> rows_;  // at least one, times increasing
 };
 
 }  // namespace earshot::scenes

@@ -90,8 +90,16 @@ struct Scene {
   std::vector<SceneSource> sources;
 };
 
+/// True for "none" and every room preset name (audio/room_presets.hpp).
+[[nodiscard]] bool is_room_name(std::string_view name);
+/// "unknown room preset 'NAME' (available: none, ...)".
+[[nodiscard]] std::string unknown_room_message(std::string_view name);
+/// `name` when is_room_name, else throws earshot::InputError naming
+/// `origin` (e.g. "--room"): for a room given outside Scene JSON.
+[[nodiscard]] std::string checked_room_name(std::string_view name, std::string_view origin);
+
 /// Where a source is at time t: its path's position, else its fixed position.
-[[nodiscard]] Point3 source_position(const SceneSource& s, double t);
+[[nodiscard]] Vec3 source_position(const SceneSource& s, double t);
 
 /// Parses Scene JSON text; `origin` names it in errors; relative paths are
 /// resolved against `base_dir`. Throws earshot::InputError.

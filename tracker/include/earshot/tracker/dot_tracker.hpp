@@ -36,7 +36,7 @@ struct TrackerConfig {
 
 struct TrackResult {
   double t = 0.0;
-  TrackState state = TrackState::lost;
+  PoseState state = PoseState::lost;
   bool has_pose = false;  ///< false only before the first pose ever
   Pose pose;              ///< filtered (or predicted) pose; held when lost
   Pose raw_pose;          ///< solver output before the filter (tracking only)

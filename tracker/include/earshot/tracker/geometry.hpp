@@ -4,10 +4,16 @@
 // A beacon pose maps model points (mm) into the camera frame (mm):
 //     P_cam = R * P_model + t
 // Camera frame: +x right, +y down, +z forward along the optical axis.
+//
+// Eigen stays inside the tracker (its solvers need matrices); poses leave
+// it as the common earshot::Vec3 / earshot::Quat (earshot/geometry.hpp),
+// converted by to_common and to_eigen.
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+
+#include "earshot/geometry.hpp"
 
 namespace earshot::tracker {
 
@@ -26,6 +32,13 @@ struct Pose {
   [[nodiscard]] static Pose from(const Quat& q, const Vec3& t);
   [[nodiscard]] bool finite() const { return R.allFinite() && t.allFinite(); }
 };
+
+/// Between the tracker's Eigen types and the common arrays (quaternions
+/// w, x, y, z in both; no normalisation, no change of frame).
+[[nodiscard]] inline earshot::Vec3 to_common(const Vec3& v) { return {v.x(), v.y(), v.z()}; }
+[[nodiscard]] inline earshot::Quat to_common(const Quat& q) { return {q.w(), q.x(), q.y(), q.z()}; }
+[[nodiscard]] inline Vec3 to_eigen(const earshot::Vec3& v) { return {v[0], v[1], v[2]}; }
+[[nodiscard]] inline Quat to_eigen(const earshot::Quat& q) { return {q[0], q[1], q[2], q[3]}; }
 
 /// Skew-symmetric matrix [v]x with [v]x * u = v x u.
 [[nodiscard]] Mat3 skew(const Vec3& v);

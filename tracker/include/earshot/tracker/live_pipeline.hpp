@@ -64,11 +64,6 @@ struct WorldPose {
 /// of the button face; at rest it reads +1 g upward) in the camera frame.
 [[nodiscard]] Vec3 remote_accel_to_camera(const Vec3& accel_remote_g);
 
-/// Head orientation from yaw, pitch, roll in radians (the audio convention:
-/// about +y, +x and -z, yaw first; positive yaw turns left, pitch looks up,
-/// roll tilts toward the right shoulder).
-[[nodiscard]] Quat audio_ypr(double yaw, double pitch, double roll);
-
 struct PipelineCounters {
   std::uint64_t frames = 0, poses = 0, notes = 0;
   std::uint64_t rejected_dots = 0;  ///< NaN or outside the image: never trusted

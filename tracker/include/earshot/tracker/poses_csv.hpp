@@ -1,6 +1,9 @@
-// Poses CSV: the tracker's output (contract):
+// Poses CSV: the tracker's output (contract), written by `earshot track
+// solve`:
 //   t_s,state,tx_mm,ty_mm,tz_mm,qw,qx,qy,qz
-// the beacon pose in the camera frame; state is tracking, predicted or lost.
+// the beacon pose in the camera frame (tracker/geometry.hpp); state is
+// tracking, predicted or lost (earshot::pose_state_name). Not to be confused
+// with the Pose track CSV (pose_track_csv.hpp): the listener in the world.
 #pragma once
 
 #include <iosfwd>
@@ -8,18 +11,14 @@
 #include <string>
 #include <string_view>
 
+#include "earshot/head_pose.hpp"
 #include "earshot/tracker/geometry.hpp"
 
 namespace earshot::tracker {
 
-enum class TrackState { searching, tracking, predicted, lost };
-
-[[nodiscard]] std::string_view to_string(TrackState s);
-[[nodiscard]] std::optional<TrackState> track_state_from(std::string_view s);
-
 struct PoseRecord {
   double t = 0.0;
-  TrackState state = TrackState::lost;
+  PoseState state = PoseState::lost;
   Pose pose;
 };
 

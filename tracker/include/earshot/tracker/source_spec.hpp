@@ -1,0 +1,56 @@
+// Which live tracker source to run, from its one-word spec (the same words
+// for `earshot track live --source`, esTrackerStart and the OpenAL bridge):
+//   wiimote           a Wii Remote over Bluetooth HID
+//   sim               the simulator's seeded random walk
+//   replay:FILE       a recorded Dots CSV
+//   opentrack[:PORT]  opentrack's UDP output (default port 4242)
+//   osc[:PORT]        /head/pose OSC messages (default port 9000)
+// The first three deliver camera dots, the last two ready-made poses.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "earshot/tracker/camera.hpp"
+#include "earshot/tracker/frame_source.hpp"
+#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/sim_source.hpp"
+
+namespace earshot::tracker {
+
+/// The spellings accepted, for help texts and error messages.
+inline constexpr std::string_view kSourceSpecs = "wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT]";
+
+struct SourceSpec {
+  enum class Kind { wiimote, sim, replay, opentrack, osc };
+  Kind kind = Kind::wiimote;
+  std::string file;        ///< replay: the Dots CSV
+  std::uint16_t port = 0;  ///< opentrack, osc: the UDP port (the default when none is given)
+
+  /// opentrack and osc send poses, not camera dots.
+  [[nodiscard]] bool sends_poses() const { return kind == Kind::opentrack || kind == Kind::osc; }
+};
+
+/// Parses a spec. Throws earshot::InputError naming `field` (where the spec
+/// came from, e.g. "--source") and the spec itself for an unknown kind, a
+/// missing or unexpected argument, or a port that is not 1..65535.
+[[nodiscard]] SourceSpec parse_source_spec(std::string_view spec, std::string_view field = "source");
+
+/// How to build a source beyond its spec.
+struct SourceOptions {
+  Pacing pacing = Pacing::real_time;         ///< sim, replay
+  Camera camera = Camera::with_focal(1280.0);  ///< sim
+  std::optional<LedModel> model;             ///< sim; default: the thesis beacon
+  /// wiimote: no remote yet is a `searching` note instead of an error (for
+  /// hosts that play on and show how to pair one).
+  bool wait_for_remote = false;
+};
+
+/// The source a spec names. Throws whatever the source's constructor throws
+/// (port in use, unreadable file).
+[[nodiscard]] std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const SourceOptions& options = {});
+
+}  // namespace earshot::tracker

@@ -1,0 +1,77 @@
+#include "earshot/tracker/source_spec.hpp"
+
+#include <charconv>
+
+#include "earshot/errors.hpp"
+#include "earshot/tracker/opentrack_packet.hpp"
+#include "earshot/tracker/osc_pose.hpp"
+#include "earshot/tracker/udp_pose_source.hpp"
+#include "earshot/tracker/wiimote_source.hpp"
+
+namespace earshot::tracker {
+namespace {
+
+/// "FIELD: source 'SPEC': WHY".
+InputError spec_error(std::string_view field, std::string_view spec, const std::string& why) {
+  return InputError::at(field, 0, "", "source '" + std::string(spec) + "': " + why);
+}
+
+std::uint16_t port_of(std::string_view spec, std::string_view field, std::optional<std::string_view> arg,
+                      std::uint16_t fallback) {
+  if (!arg) return fallback;
+  unsigned v = 0;
+  const auto [end, ec] = std::from_chars(arg->data(), arg->data() + arg->size(), v);
+  if (arg->empty() || ec != std::errc{} || end != arg->data() + arg->size() || v < 1 || v > 65535)
+    throw spec_error(field, spec, "bad UDP port '" + std::string(*arg) + "' (1-65535)");
+  return static_cast<std::uint16_t>(v);
+}
+
+}  // namespace
+
+SourceSpec parse_source_spec(std::string_view spec, std::string_view field) {
+  using Kind = SourceSpec::Kind;
+  const std::size_t colon = spec.find(':');
+  const std::string_view kind = spec.substr(0, colon);
+  std::optional<std::string_view> arg;
+  if (colon != std::string_view::npos) arg = spec.substr(colon + 1);
+  SourceSpec s;
+  if (kind == "wiimote" || kind == "sim") {
+    if (arg) throw spec_error(field, spec, "'" + std::string(kind) + "' takes no argument");
+    s.kind = kind == "sim" ? Kind::sim : Kind::wiimote;
+  } else if (kind == "replay") {
+    if (!arg || arg->empty()) throw spec_error(field, spec, "replay needs a file (replay:FILE)");
+    s.kind = Kind::replay;
+    s.file = std::string(*arg);
+  } else if (kind == "opentrack") {
+    s.kind = Kind::opentrack;
+    s.port = port_of(spec, field, arg, kOpentrackDefaultPort);
+  } else if (kind == "osc") {
+    s.kind = Kind::osc;
+    s.port = port_of(spec, field, arg, kOscDefaultPort);
+  } else {
+    throw InputError::at(field, 0, "", "unknown source '" + std::string(spec) + "' (" + std::string(kSourceSpecs) + ")");
+  }
+  return s;
+}
+
+std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const SourceOptions& o) {
+  switch (spec.kind) {
+    case SourceSpec::Kind::wiimote: {
+      WiimoteOptions w;
+      w.wait_for_remote = o.wait_for_remote;
+      return std::make_unique<WiimoteSource>(make_hidapi_transport(), w);
+    }
+    case SourceSpec::Kind::sim: {
+      SimSourceConfig c;
+      c.pacing = o.pacing;
+      return std::make_unique<SimSource>(o.camera, o.model.value_or(LedModel::thesis()), c);
+    }
+    case SourceSpec::Kind::replay: return std::make_unique<ReplaySource>(spec.file, o.pacing);
+    case SourceSpec::Kind::opentrack:
+      return std::make_unique<UdpPoseSource>("opentrack", spec.port, true, decode_opentrack);
+    case SourceSpec::Kind::osc: return std::make_unique<UdpPoseSource>("osc", spec.port, true, decode_osc);
+  }
+  throw std::logic_error("make_frame_source: unknown source kind");
+}
+
+}  // namespace earshot::tracker

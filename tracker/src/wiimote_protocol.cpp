@@ -79,7 +79,7 @@ SensitivityBlocks sensitivity_blocks(IrSensitivity s) {
     case IrSensitivity::level1: return {{0x02, 0x00, 0x00, 0x71, 0x01, 0x00, 0x64, 0x00, 0xfe}, {0xfd, 0x05}};
     case IrSensitivity::level3: return {{0x02, 0x00, 0x00, 0x71, 0x01, 0x00, 0xaa, 0x00, 0x64}, {0x63, 0x03}};
     case IrSensitivity::level5: return {{0x07, 0x00, 0x00, 0x71, 0x01, 0x00, 0x72, 0x00, 0x20}, {0x1f, 0x03}};
-    case IrSensitivity::max: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}};
+    case IrSensitivity::custom_high: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}};
     case IrSensitivity::wiiyourself: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0xc0}, {0x40, 0x00}};
   }
   return sensitivity_blocks(IrSensitivity::level3);
@@ -109,12 +109,11 @@ std::vector<OutputReport> ir_init_sequence(IrMode mode, IrSensitivity s, bool ru
 }
 
 std::optional<IrDot> decode_ir_extended(std::span<const std::uint8_t, 3> b) {
-  if (b[0] == 0xFF && b[1] == 0xFF && b[2] == 0xFF) return std::nullopt;
   IrDot d;
   d.x = static_cast<std::uint16_t>(b[0] | ((b[2] & 0x30) << 4));
   d.y = static_cast<std::uint16_t>(b[1] | ((b[2] & 0xC0) << 2));
   d.size = b[2] & 0x0F;
-  if (d.x > 1023 || d.y > 767) return std::nullopt;  // y = 1023 marks an empty slot
+  if (d.y > 767) return std::nullopt;  // the empty slot (FF FF FF: y = 1023), or no dot the sensor can see
   return d;
 }
 
@@ -125,8 +124,8 @@ std::array<std::optional<IrDot>, 2> decode_ir_basic(std::span<const std::uint8_t
   d1.y = static_cast<std::uint16_t>(b[1] | ((b[2] & 0xC0) << 2));
   d2.x = static_cast<std::uint16_t>(b[3] | ((b[2] & 0x03) << 8));
   d2.y = static_cast<std::uint16_t>(b[4] | ((b[2] & 0x0C) << 6));
-  if (d1.x <= 1023 && d1.y <= 767) out[0] = d1;
-  if (d2.x <= 1023 && d2.y <= 767) out[1] = d2;
+  if (d1.y <= 767) out[0] = d1;  // x has 10 bits: always <= 1023
+  if (d2.y <= 767) out[1] = d2;
   return out;
 }
 

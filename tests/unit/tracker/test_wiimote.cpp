@@ -59,7 +59,10 @@ TEST(WiimoteOutput, IrInitSequenceLevel3Extended) {
 TEST(WiimoteOutput, SensitivityTable) {
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::level1).block2, (std::array<std::uint8_t, 2>{0xfd, 0x05}));
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::level5).block1[0], 0x07);
-  EXPECT_EQ(sensitivity_blocks(IrSensitivity::max).block1[8], 0x41);
+  EXPECT_EQ(sensitivity_blocks(IrSensitivity::custom_high).block1,
+            (std::array<std::uint8_t, 9>{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}));
+  EXPECT_EQ(sensitivity_blocks(IrSensitivity::custom_high).block2, (std::array<std::uint8_t, 2>{0x40, 0x00}));
+
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::wiiyourself).block1[8], 0xc0);
   EXPECT_EQ(reporting_mode_for(IrMode::basic), 0x37);
   EXPECT_EQ(reporting_mode_for(IrMode::full), 0x3E);
@@ -138,6 +141,34 @@ TEST(WiimoteInput, FullIrInterleaved) {
   EXPECT_FALSE(d.ir[1].has_value());
 }
 
+// The empty-slot marker, as wiimote_protocol.hpp documents it: all bits set
+// (x = y = 1023), and any y above 767 reads as no dot.
+TEST(WiimoteInput, EmptySlotMarker) {
+  const auto ext = [](std::uint8_t a, std::uint8_t b, std::uint8_t c) {
+    const std::array<std::uint8_t, 3> bytes{a, b, c};
+    return decode_ir_extended(bytes);
+  };
+  EXPECT_FALSE(ext(0xFF, 0xFF, 0xFF));                           // the marker
+  EXPECT_FALSE(ext(0x10, 0xFF, 0xC5));                           // x 16, y 1023: no dot either
+  EXPECT_FALSE(ext(0x10, 0x00, 0xC5));                           // y 768: outside the image
+  const auto last_row = ext(0xFF, 0xFF, 0xB5);                   // x 1023, y 767, size 5: a dot
+  ASSERT_TRUE(last_row);
+  EXPECT_EQ(last_row->x, 1023);
+  EXPECT_EQ(last_row->y, 767);
+  EXPECT_EQ(last_row->size, 5);
+  // Basic: dot 2 of the pair is the marker (X2 = Y2 = FF, its high bits 11 11).
+  const std::array<std::uint8_t, 5> pair{0x64, 0xC8, 0x0F, 0xFF, 0xFF};
+  const auto basic = decode_ir_basic(pair);
+  ASSERT_TRUE(basic[0]);
+  EXPECT_EQ(basic[0]->x, 100);
+  EXPECT_EQ(basic[0]->y, 200);
+  EXPECT_FALSE(basic[1]);
+  // Full: nine FF bytes.
+  std::array<std::uint8_t, 9> full{};
+  full.fill(0xFF);
+  EXPECT_FALSE(decode_ir_full(full));
+}
+
 TEST(WiimoteInput, StatusReadReplyAndAck) {
   const auto st = decode(B{0x20, 0x00, 0x00, 0x1A, 0x00, 0x00, 0xC8});
   ASSERT_TRUE(st.has_value());
@@ -189,4 +220,27 @@ TEST(WiimoteAccel, CalibrationFromEeprom) {
   EXPECT_DOUBLE_EQ(g[2], -1.0);
   cal[9] ^= 0x01;  // bad checksum
   EXPECT_FALSE(parse_accel_calibration(cal).has_value());
+}
+
+// The checksum, as wiimote_protocol.hpp documents it: required, at the tenth
+// byte, the low byte of 0x55 plus all nine bytes before it (0x1E included).
+TEST(WiimoteAccel, ChecksumIsRequiredAndCoversTheNineBytes) {
+  B cal{0x82, 0x82, 0x82, 0x15, 0x9C, 0x9C, 0x9E, 0x38, 0x40};  // sums past 0xFF
+  unsigned sum = 0x55;
+  for (auto v : cal) sum += v;
+  ASSERT_GT(sum, 0xFFu);
+  EXPECT_EQ(sum & 0xFF, 0x3Eu);  // the block wiibrew shows from a real remote ends in 3E
+  EXPECT_FALSE(parse_accel_calibration(cal).has_value()) << "nine bytes: no checksum, no calibration";
+  cal.push_back(static_cast<std::uint8_t>(sum));
+  const auto c = parse_accel_calibration(cal);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->zero[0], (0x82 << 2) | 0x1);    // --XXYYZZ = 00 01 01 01
+  EXPECT_EQ(c->one_g[2], (0x9E << 2) | 0x0);   // --XXYYZZ = 00 11 10 00
+  EXPECT_EQ(c->one_g[0], (0x9C << 2) | 0x3);
+  B no_seed = cal;
+  no_seed[9] = static_cast<std::uint8_t>(sum - 0x55);  // the sum without 0x55
+  EXPECT_FALSE(parse_accel_calibration(no_seed).has_value());
+  B unused_byte = cal;
+  unused_byte[8] ^= 0x01;  // 0x1E is not calibration data but is summed
+  EXPECT_FALSE(parse_accel_calibration(unused_byte).has_value());
 }

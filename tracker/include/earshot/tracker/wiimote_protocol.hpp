@@ -58,8 +58,20 @@ struct OutputReport {
 enum class IrMode : std::uint8_t { basic = 1, extended = 3, full = 5 };
 
 /// Sensitivity blocks in use by peers (block 1: 9 bytes at 0xB00000,
-/// block 2: 2 bytes at 0xB0001A).
-enum class IrSensitivity { level1, level3, level5, max, wiiyourself };
+/// block 2: 2 bytes at 0xB0001A). What is known of them (the Wiimote
+/// project wiki's IR sensor register map): block 1 byte 6 is the largest
+/// blob, byte 8 the gain (smaller is more gain); block 2 is the gain limit
+/// (below the gain) and the smallest blob.
+///  - level1, level3, level5: the Wii's own levels 1, 3 and 5 (wiibrew;
+///    wiiuse and the kernel's hid-wiimote use level 3).
+///  - custom_high: `00 00 00 00 00 00 90 00 41` / `40 00`, not a Wii level:
+///    wiibrew's table lists it as "suggested by inio (high sensitivity)" and
+///    peers offer it as a custom high setting. Some call it "max", but the
+///    table's "max sensitivity" is another block (`... ff 00 0c` / `00 00`).
+///  - wiiyourself: `00 00 00 00 00 00 90 00 c0` / `40 00`, as WiiYourself
+///    uses (wiibrew's table: "suggested by Marcan").
+/// No user input names these (WiimoteOptions sets one in code).
+enum class IrSensitivity { level1, level3, level5, custom_high, wiiyourself };
 
 struct SensitivityBlocks {
   std::array<std::uint8_t, 9> block1;
@@ -87,6 +99,9 @@ struct Buttons {
   [[nodiscard]] bool pressed(std::uint16_t mask) const { return (bits & mask) != 0; }
 };
 
+/// One IR dot. The camera marks an empty slot with all bits set (x = y =
+/// 1023; in the extended format the bytes `FF FF FF`); the decoders return
+/// no dot for that and for any y above 767, which the sensor never reports.
 struct IrDot {
   std::uint16_t x = 0, y = 0;  ///< 0..1023, 0..767
   std::uint8_t size = 0;       ///< 0..15 (extended and full formats)
@@ -153,9 +168,11 @@ struct AccelCalibration {
   [[nodiscard]] std::array<double, 3> apply(const AccelRaw& raw) const;
 };
 
-/// Parses the 10 bytes read from EEPROM 0x0016 (zero-g X,Y,Z; low bits;
-/// +1 g X,Y,Z; low bits as --XXYYZZ). nullopt when the checksum (byte sum
-/// + 0x55, in the byte after the block, if given) does not match or a gain is zero.
+/// Parses the 10 bytes read from EEPROM 0x0016: zero-g X,Y,Z (high 8 bits),
+/// their low bits as --XXYYZZ, +1 g X,Y,Z, their low bits, then at 0x1F a
+/// checksum: the low byte of 0x55 plus the sum of the nine bytes before it.
+/// The checksum is required: nullopt for fewer than 10 bytes, a checksum
+/// that does not match, or a zero gain (+1 g equal to zero g) on any axis.
 [[nodiscard]] std::optional<AccelCalibration> parse_accel_calibration(std::span<const std::uint8_t> bytes);
 
 }  // namespace earshot::tracker::wiimote

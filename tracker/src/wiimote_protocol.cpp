@@ -36,6 +36,32 @@ std::string hex(std::uint8_t v) {
   return std::string("0x") + digits[v >> 4] + digits[v & 0x0F];
 }
 
+enum class IrFormat { none, extended, basic, full };
+
+/// Where a data report keeps what we decode. Sizes include the ID byte.
+struct DataLayout {
+  std::size_t size;
+  bool buttons, accel;
+  IrFormat ir;
+  std::size_t ir_at;
+};
+
+std::optional<DataLayout> data_layout(std::uint8_t id) {
+  switch (id) {
+    case 0x30: return DataLayout{3, true, false, IrFormat::none, 0};
+    case 0x31: return DataLayout{6, true, true, IrFormat::none, 0};
+    case 0x32: return DataLayout{11, true, false, IrFormat::none, 0};  // + 8 extension bytes
+    case 0x33: return DataLayout{18, true, true, IrFormat::extended, 6};
+    case 0x34: return DataLayout{22, true, false, IrFormat::none, 0};  // + 19 extension bytes
+    case 0x35: return DataLayout{22, true, true, IrFormat::none, 0};   // + 16 extension bytes
+    case 0x36: return DataLayout{22, true, false, IrFormat::basic, 3};
+    case 0x37: return DataLayout{22, true, true, IrFormat::basic, 6};
+    case 0x3D: return DataLayout{22, false, false, IrFormat::none, 0};  // 21 extension bytes, no buttons
+    case 0x3E: case 0x3F: return DataLayout{22, true, false, IrFormat::full, 4};
+    default: return std::nullopt;
+  }
+}
+
 bool fail(std::string* why, const std::string& msg) {
   if (why) *why = msg;
   return false;
@@ -51,8 +77,12 @@ OutputReport set_reporting_mode(std::uint8_t mode, bool continuous, bool rumble)
   return report(0x12, {static_cast<std::uint8_t>(continuous ? 0x04 : 0x00), mode}, rumble);
 }
 
-OutputReport ir_enable(bool on, bool rumble) { return report(0x13, {static_cast<std::uint8_t>(on ? 0x04 : 0x00)}, rumble); }
-OutputReport ir_enable2(bool on, bool rumble) { return report(0x1A, {static_cast<std::uint8_t>(on ? 0x04 : 0x00)}, rumble); }
+OutputReport ir_enable(bool on, bool rumble, bool ack) {
+  return report(0x13, {static_cast<std::uint8_t>((on ? 0x04 : 0x00) | (ack ? kAckRequest : 0x00))}, rumble);
+}
+OutputReport ir_enable2(bool on, bool rumble, bool ack) {
+  return report(0x1A, {static_cast<std::uint8_t>((on ? 0x04 : 0x00) | (ack ? kAckRequest : 0x00))}, rumble);
+}
 OutputReport status_request(bool rumble) { return report(0x15, {0x00}, rumble); }
 
 OutputReport write_registers(std::uint32_t address, std::span<const std::uint8_t> data, bool rumble) {
@@ -74,12 +104,42 @@ OutputReport read_memory(std::uint32_t address, std::uint16_t size, bool registe
                 rumble);
 }
 
+bool expects_acknowledgement(const OutputReport& r) {
+  if (r.size < 2) return false;
+  switch (r.id()) {
+    case 0x16: return true;
+    case 0x11: case 0x12: case 0x13: case 0x1A: return (r.bytes[1] & kAckRequest) != 0;
+    default: return false;
+  }
+}
+
+std::string describe(const OutputReport& r) {
+  const std::string id = hex(r.id());
+  switch (r.id()) {
+    case 0x11: return id + " (player LEDs)";
+    case 0x12: return id + " (data reporting mode)";
+    case 0x13: return id + " (IR pixel clock enable)";
+    case 0x15: return id + " (status request)";
+    case 0x16: {
+      if (r.size < 6) return id + " (memory write)";
+      static constexpr char digits[] = "0123456789ABCDEF";
+      std::string address = "0x";
+      for (std::size_t i = 2; i < 5; ++i) address += {digits[r.bytes[i] >> 4], digits[r.bytes[i] & 0x0F]};
+      return id + " (write of " + std::to_string(r.bytes[5]) + (r.bytes[5] == 1 ? " byte to " : " bytes to ") +
+             ((r.bytes[1] & 0x04) ? "register " : "EEPROM ") + address + ")";
+    }
+    case 0x17: return id + " (memory read)";
+    case 0x1A: return id + " (IR logic enable)";
+    default: return id;
+  }
+}
+
 SensitivityBlocks sensitivity_blocks(IrSensitivity s) {
   switch (s) {
     case IrSensitivity::level1: return {{0x02, 0x00, 0x00, 0x71, 0x01, 0x00, 0x64, 0x00, 0xfe}, {0xfd, 0x05}};
     case IrSensitivity::level3: return {{0x02, 0x00, 0x00, 0x71, 0x01, 0x00, 0xaa, 0x00, 0x64}, {0x63, 0x03}};
     case IrSensitivity::level5: return {{0x07, 0x00, 0x00, 0x71, 0x01, 0x00, 0x72, 0x00, 0x20}, {0x1f, 0x03}};
-    case IrSensitivity::max: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}};
+    case IrSensitivity::custom_high: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}};
     case IrSensitivity::wiiyourself: return {{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0xc0}, {0x40, 0x00}};
   }
   return sensitivity_blocks(IrSensitivity::level3);
@@ -98,8 +158,8 @@ std::vector<OutputReport> ir_init_sequence(IrMode mode, IrSensitivity s, bool ru
   const SensitivityBlocks blocks = sensitivity_blocks(s);
   const std::uint8_t eight = 0x08;
   const auto m = static_cast<std::uint8_t>(mode);
-  return {ir_enable(true, rumble),
-          ir_enable2(true, rumble),
+  return {ir_enable(true, rumble, true),
+          ir_enable2(true, rumble, true),
           write_registers(0xB00030, std::span(&eight, 1), rumble),
           write_registers(0xB00000, blocks.block1, rumble),
           write_registers(0xB0001A, blocks.block2, rumble),
@@ -109,12 +169,11 @@ std::vector<OutputReport> ir_init_sequence(IrMode mode, IrSensitivity s, bool ru
 }
 
 std::optional<IrDot> decode_ir_extended(std::span<const std::uint8_t, 3> b) {
-  if (b[0] == 0xFF && b[1] == 0xFF && b[2] == 0xFF) return std::nullopt;
   IrDot d;
   d.x = static_cast<std::uint16_t>(b[0] | ((b[2] & 0x30) << 4));
   d.y = static_cast<std::uint16_t>(b[1] | ((b[2] & 0xC0) << 2));
   d.size = b[2] & 0x0F;
-  if (d.x > 1023 || d.y > 767) return std::nullopt;  // y = 1023 marks an empty slot
+  if (d.y > 767) return std::nullopt;  // the empty slot (FF FF FF: y = 1023), or no dot the sensor can see
   return d;
 }
 
@@ -125,8 +184,8 @@ std::array<std::optional<IrDot>, 2> decode_ir_basic(std::span<const std::uint8_t
   d1.y = static_cast<std::uint16_t>(b[1] | ((b[2] & 0xC0) << 2));
   d2.x = static_cast<std::uint16_t>(b[3] | ((b[2] & 0x03) << 8));
   d2.y = static_cast<std::uint16_t>(b[4] | ((b[2] & 0x0C) << 6));
-  if (d1.x <= 1023 && d1.y <= 767) out[0] = d1;
-  if (d2.x <= 1023 && d2.y <= 767) out[1] = d2;
+  if (d1.y <= 767) out[0] = d1;  // x has 10 bits: always <= 1023
+  if (d2.y <= 767) out[1] = d2;
   return out;
 }
 
@@ -177,43 +236,44 @@ std::optional<InputReport> decode(std::span<const std::uint8_t> b, std::string* 
       if (!need(5)) return std::nullopt;
       return Acknowledge{buttons_of(b), b[3], b[4]};
     }
-    case 0x30: case 0x31: case 0x33: case 0x36: case 0x37: case 0x3E: case 0x3F: {
-      static constexpr std::size_t kSize[] = {3, 6, 0, 18, 0, 0, 22, 22};
-      const std::size_t n = (b[0] >= 0x3E) ? 22 : kSize[b[0] - 0x30];
-      if (!need(n)) return std::nullopt;
+    default: {
+      const auto layout = data_layout(b[0]);
+      if (!layout) break;
+      if (!need(layout->size)) return std::nullopt;
       DataReport d;
       d.id = b[0];
-      if (b[0] == 0x3E || b[0] == 0x3F) {
-        // Full IR, interleaved: each report has half the buttons/accel and
-        // two 9-byte dots. We keep the buttons and the dots.
-        d.buttons = buttons_of(b);
-        d.has_ir = true;
-        d.ir_first_slot = b[0] == 0x3E ? 0 : 2;
-        d.ir_slot_count = 2;
-        for (std::size_t k = 0; k < 2; ++k)
-          d.ir[static_cast<std::size_t>(d.ir_first_slot) + k] = decode_ir_full(b.subspan(4 + 9 * k).first<9>());
-        return d;
-      }
-      d.buttons = buttons_of(b);
-      if (b[0] == 0x31 || b[0] == 0x33 || b[0] == 0x37) d.accel = accel_of(b);
-      if (b[0] == 0x33) {
-        d.has_ir = true;
-        for (std::size_t k = 0; k < 4; ++k) d.ir[k] = decode_ir_extended(b.subspan(6 + 3 * k).first<3>());
-      } else if (b[0] == 0x36 || b[0] == 0x37) {
-        d.has_ir = true;
-        const std::size_t at = b[0] == 0x36 ? 3 : 6;
-        for (std::size_t k = 0; k < 2; ++k) {
-          const auto pair = decode_ir_basic(b.subspan(at + 5 * k).first<5>());
-          d.ir[2 * k] = pair[0];
-          d.ir[2 * k + 1] = pair[1];
-        }
+      if (layout->buttons) d.buttons = buttons_of(b);
+      if (layout->accel) d.accel = accel_of(b);
+      switch (layout->ir) {
+        case IrFormat::none: break;
+        case IrFormat::extended:
+          d.has_ir = true;
+          for (std::size_t k = 0; k < 4; ++k) d.ir[k] = decode_ir_extended(b.subspan(layout->ir_at + 3 * k).first<3>());
+          break;
+        case IrFormat::basic:
+          d.has_ir = true;
+          for (std::size_t k = 0; k < 2; ++k) {
+            const auto pair = decode_ir_basic(b.subspan(layout->ir_at + 5 * k).first<5>());
+            d.ir[2 * k] = pair[0];
+            d.ir[2 * k + 1] = pair[1];
+          }
+          break;
+        case IrFormat::full:
+          // Interleaved: each report has two 9-byte dots (and a share of the
+          // accelerometer, which we leave).
+          d.has_ir = true;
+          d.ir_first_slot = b[0] == 0x3E ? 0 : 2;
+          d.ir_slot_count = 2;
+          for (std::size_t k = 0; k < 2; ++k)
+            d.ir[static_cast<std::size_t>(d.ir_first_slot) + k] =
+                decode_ir_full(b.subspan(layout->ir_at + 9 * k).first<9>());
+          break;
       }
       return d;
     }
-    default:
-      fail(why, "unknown input report " + hex(b[0]));
-      return std::nullopt;
   }
+  fail(why, "unknown input report " + hex(b[0]));
+  return std::nullopt;
 }
 
 std::array<double, 3> AccelCalibration::apply(const AccelRaw& raw) const {

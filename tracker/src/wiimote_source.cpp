@@ -1,6 +1,7 @@
 #include "earshot/tracker/wiimote_source.hpp"
 
 #include <thread>
+#include <utility>
 
 #include "earshot/tracker/live_pipeline.hpp"
 
@@ -116,10 +117,9 @@ bool WiimoteSource::initialise(std::string& why) {
     why = message;
     return false;
   };
-  if (!hid_->write(w::set_leds(0x01).view())) return fail("write failed");
+  if (!send(w::set_leds(0x01), why)) return false;
   // Accelerometer calibration: 10 bytes at EEPROM 0x16 (the last is the checksum).
-  if (!hid_->write(w::read_memory(w::kAccelCalibrationAddress, w::kAccelCalibrationSize).view()))
-    return fail("write failed");
+  if (!send(w::read_memory(w::kAccelCalibrationAddress, w::kAccelCalibrationSize), why)) return false;
   std::optional<w::AccelCalibration> cal;
   const bool replied = await([&](const w::InputReport& r) {
     const auto* rr = std::get_if<w::ReadReply>(&r);
@@ -129,31 +129,48 @@ bool WiimoteSource::initialise(std::string& why) {
   });
   if (!replied) return fail("no reply to the calibration read");
   cal_ = cal.value_or(default_calibration());
-  for (const auto& report : w::ir_init_sequence(opt_.mode, opt_.sensitivity)) {
-    if (!hid_->write(report.view())) return fail("write failed");
-    if (report.id() != 0x16) continue;  // register writes are acknowledged
-    bool ok = false;
+  for (const auto& report : w::ir_init_sequence(opt_.mode, opt_.sensitivity))
+    if (!send(report, why)) return false;
+  return true;
+}
+
+bool WiimoteSource::send(const w::OutputReport& report, std::string& why) {
+  constexpr int kAttempts = 2;  // a lost report or acknowledgement is sent again once
+  for (int attempt = 0; attempt < kAttempts; ++attempt) {
+    if (!hid_->write(report.view())) {
+      why = "write of output report " + w::describe(report) + " failed";
+      return false;
+    }
+    if (!w::expects_acknowledgement(report)) return true;
+    std::uint8_t error = 0;
     const bool acked = await([&](const w::InputReport& r) {
       const auto* a = std::get_if<w::Acknowledge>(&r);
-      if (!a || a->report != 0x16) return false;
-      ok = a->error == 0;
+      if (!a || a->report != report.id()) return false;
+      error = a->error;
       return true;
     });
-    if (!acked) return fail("no acknowledgement of a register write");
-    if (!ok) return fail("a register write was refused");
+    if (!acked) continue;
+    if (error == 0) return true;
+    why = "output report " + w::describe(report) + " refused with error code " + std::to_string(error);
+    return false;
   }
-  return true;
+  why = "no acknowledgement of output report " + w::describe(report) + " after " + std::to_string(kAttempts) +
+        " attempts";
+  return false;
 }
 
 SourceEvent WiimoteSource::lose(const std::string& why) {
   hid_->close();
   connected_ = false;
   next_attempt_ = opt_.clock() + opt_.retry_s;
-  full_ir_ = {};
+  first_half_.reset();
   return make_note(SourceNote::Kind::disconnected, why);
 }
 
 std::optional<SourceEvent> WiimoteSource::on_report(std::span<const std::uint8_t> bytes) {
+  // A 0x3E pairs with the report right after it only: whatever comes next
+  // takes the waiting half away.
+  const auto first_half = std::exchange(first_half_, std::nullopt);
   const auto r = w::decode(bytes);
   if (!r) {
     ++dropped_;  // never trusted
@@ -167,15 +184,16 @@ std::optional<SourceEvent> WiimoteSource::on_report(std::span<const std::uint8_t
     return std::nullopt;
   }
   const auto* d = std::get_if<w::DataReport>(&*r);
-  if (!d || !d->has_ir) return std::nullopt;
+  if (!d || !d->buttons) return std::nullopt;  // 0x3D: extension bytes only
   std::array<std::optional<w::IrDot>, 4> ir = d->ir;
-  if (d->ir_slot_count == 2) {  // full format: two reports make one frame
+  if (d->ir_slot_count == 2) {  // full format: a 0x3E and the 0x3F right after it make one frame
     if (d->ir_first_slot == 0) {
-      full_ir_ = d->ir;
+      first_half_ = std::array{d->ir[0], d->ir[1]};
       return std::nullopt;
     }
-    ir[0] = full_ir_[0];
-    ir[1] = full_ir_[1];
+    if (!first_half) return std::nullopt;  // its 0x3E was lost: half a frame is no frame
+    ir[0] = (*first_half)[0];
+    ir[1] = (*first_half)[1];
   }
   CameraFrame f;
   f.dots.t = opt_.clock();
@@ -188,7 +206,7 @@ std::optional<SourceEvent> WiimoteSource::on_report(std::span<const std::uint8_t
     const auto g = cal_.apply(*d->accel);
     f.accel_g = remote_accel_to_camera(Vec3(g[0], g[1], g[2]));
   }
-  f.buttons = d->buttons.bits;
+  f.buttons = d->buttons->bits;
   return f;
 }
 

@@ -185,7 +185,6 @@ TEST(TrackerState, WiiRemoteThatDisconnectsMidRun) {
   using namespace earshot::tracker::testing;
   using K = Step::Kind;
   std::deque<Step> s;
-  const Bytes ack{0x22, 0x00, 0x00, 0x16, 0x00};
   s.push_back({K::expect_write, {0x11, 0x10}});
   s.push_back({K::expect_write, {0x17, 0x00, 0x00, 0x00, 0x16, 0x00, 0x0A}});
   Bytes cal{0x21, 0x00, 0x00, 0x90, 0x00, 0x16, 0x80, 0x80, 0x80, 0x00, 0x9A, 0x9A, 0x9A, 0x00, 0x00};
@@ -196,7 +195,7 @@ TEST(TrackerState, WiiRemoteThatDisconnectsMidRun) {
   s.push_back({K::reply, cal});
   for (const auto& w : wiimote::ir_init_sequence(wiimote::IrMode::extended, wiimote::IrSensitivity::level3)) {
     s.push_back({K::expect_write, Bytes(w.view().begin(), w.view().end())});
-    if (w.id() == 0x16) s.push_back({K::reply, ack});
+    if (wiimote::expects_acknowledgement(w)) s.push_back({K::reply, {0x22, 0x00, 0x00, w.id(), 0x00}});
   }
   // 150 IR reports (dots at (100,200) (300,200) (100,400) (300,400), size 2 each), then gone.
   // (Each costs a solve that fails: slow under sanitizers, so not many.)

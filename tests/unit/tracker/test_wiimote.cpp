@@ -2,6 +2,7 @@
 // (shared/reference/wiimote-ir-protocol.md).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "earshot/tracker/wiimote_protocol.hpp"
@@ -21,6 +22,8 @@ TEST(WiimoteOutput, SimpleReports) {
   EXPECT_EQ(bytes(ir_enable(true)), (B{0x13, 0x04}));
   EXPECT_EQ(bytes(ir_enable(false)), (B{0x13, 0x00}));
   EXPECT_EQ(bytes(ir_enable2(true)), (B{0x1A, 0x04}));
+  EXPECT_EQ(bytes(ir_enable(true, false, true)), (B{0x13, 0x06}));  // asking for an acknowledgement
+  EXPECT_EQ(bytes(ir_enable2(true, true, true)), (B{0x1A, 0x07}));
   EXPECT_EQ(bytes(status_request()), (B{0x15, 0x00}));
   EXPECT_EQ(bytes(read_memory(0x0016, 7)), (B{0x17, 0x00, 0x00, 0x00, 0x16, 0x00, 0x07}));
   EXPECT_EQ(bytes(read_memory(0xA400FA, 6, true)), (B{0x17, 0x04, 0xA4, 0x00, 0xFA, 0x00, 0x06}));
@@ -39,13 +42,14 @@ TEST(WiimoteOutput, WriteRegistersPadsTo16) {
 TEST(WiimoteOutput, IrInitSequenceLevel3Extended) {
   const auto seq = ir_init_sequence(IrMode::extended, IrSensitivity::level3);
   ASSERT_EQ(seq.size(), 8u);
-  EXPECT_EQ(bytes(seq[0]), (B{0x13, 0x04}));
-  EXPECT_EQ(bytes(seq[1]), (B{0x1A, 0x04}));
+  EXPECT_EQ(bytes(seq[0]), (B{0x13, 0x06}));  // enable, acknowledgement requested
+  EXPECT_EQ(bytes(seq[1]), (B{0x1A, 0x06}));
   auto w = [](std::uint32_t a, B data) {
-    B r{0x16, 0x04, static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8), static_cast<std::uint8_t>(a),
-        static_cast<std::uint8_t>(data.size())};
-    r.insert(r.end(), data.begin(), data.end());
-    r.resize(22, 0);
+    B r(22, 0x00);
+    const B head{0x16, 0x04, static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
+                 static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(data.size())};
+    std::copy(head.begin(), head.end(), r.begin());
+    std::copy(data.begin(), data.end(), r.begin() + 6);
     return r;
   };
   EXPECT_EQ(bytes(seq[2]), w(0xB00030, {0x08}));
@@ -59,10 +63,34 @@ TEST(WiimoteOutput, IrInitSequenceLevel3Extended) {
 TEST(WiimoteOutput, SensitivityTable) {
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::level1).block2, (std::array<std::uint8_t, 2>{0xfd, 0x05}));
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::level5).block1[0], 0x07);
-  EXPECT_EQ(sensitivity_blocks(IrSensitivity::max).block1[8], 0x41);
+  EXPECT_EQ(sensitivity_blocks(IrSensitivity::custom_high).block1,
+            (std::array<std::uint8_t, 9>{0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}));
+  EXPECT_EQ(sensitivity_blocks(IrSensitivity::custom_high).block2, (std::array<std::uint8_t, 2>{0x40, 0x00}));
   EXPECT_EQ(sensitivity_blocks(IrSensitivity::wiiyourself).block1[8], 0xc0);
   EXPECT_EQ(reporting_mode_for(IrMode::basic), 0x37);
   EXPECT_EQ(reporting_mode_for(IrMode::full), 0x3E);
+}
+
+// Which reports the remote answers with a 0x22, and how they are named in errors.
+TEST(WiimoteOutput, WhichReportsAreAcknowledged) {
+  const std::uint8_t eight = 0x08;
+  EXPECT_TRUE(expects_acknowledgement(write_registers(0xB00030, std::span(&eight, 1))));
+  EXPECT_TRUE(expects_acknowledgement(ir_enable(true, false, true)));
+  EXPECT_TRUE(expects_acknowledgement(ir_enable2(false, true, true)));
+  EXPECT_FALSE(expects_acknowledgement(ir_enable(true)));
+  EXPECT_FALSE(expects_acknowledgement(ir_enable2(true, true)));  // rumble is bit 0, not the request
+  EXPECT_FALSE(expects_acknowledgement(set_reporting_mode(0x33, true)));
+  EXPECT_FALSE(expects_acknowledgement(set_leds(0x0F)));
+  EXPECT_FALSE(expects_acknowledgement(read_memory(0x0016, 10)));  // answered by 0x21 instead
+  EXPECT_FALSE(expects_acknowledgement(status_request()));         // answered by 0x20
+  const auto seq = ir_init_sequence(IrMode::extended, IrSensitivity::level3);
+  std::vector<bool> acked;
+  for (const auto& r : seq) acked.push_back(expects_acknowledgement(r));
+  EXPECT_EQ(acked, (std::vector<bool>{true, true, true, true, true, true, true, false}));
+  EXPECT_EQ(describe(ir_enable(true, false, true)), "0x13 (IR pixel clock enable)");
+  EXPECT_EQ(describe(ir_enable2(true, false, true)), "0x1A (IR logic enable)");
+  EXPECT_EQ(describe(seq[3]), "0x16 (write of 9 bytes to register 0xB00000)");
+  EXPECT_EQ(describe(read_memory(0x0016, 10)), "0x17 (memory read)");
 }
 
 TEST(WiimoteInput, ExtendedIrWithButtonsAndAccel) {
@@ -79,10 +107,10 @@ TEST(WiimoteInput, ExtendedIrWithButtonsAndAccel) {
   const auto in = decode(r, &why);
   ASSERT_TRUE(in.has_value()) << why;
   const auto& d = std::get<DataReport>(*in);
-  EXPECT_TRUE(d.buttons.pressed(Buttons::a));
-  EXPECT_TRUE(d.buttons.pressed(Buttons::home));
-  EXPECT_FALSE(d.buttons.pressed(Buttons::b));
-  EXPECT_EQ(d.buttons.bits, Buttons::a | Buttons::home);
+  EXPECT_TRUE(d.buttons->pressed(Buttons::a));
+  EXPECT_TRUE(d.buttons->pressed(Buttons::home));
+  EXPECT_FALSE(d.buttons->pressed(Buttons::b));
+  EXPECT_EQ(d.buttons->bits, Buttons::a | Buttons::home);
   ASSERT_TRUE(d.accel.has_value());
   EXPECT_EQ(d.accel->x, 0x200 + 3);
   EXPECT_EQ(d.accel->y, 0x1F0 + 2);
@@ -138,6 +166,34 @@ TEST(WiimoteInput, FullIrInterleaved) {
   EXPECT_FALSE(d.ir[1].has_value());
 }
 
+// The empty-slot marker, as wiimote_protocol.hpp documents it: all bits set
+// (x = y = 1023), and any y above 767 reads as no dot.
+TEST(WiimoteInput, EmptySlotMarker) {
+  const auto ext = [](std::uint8_t a, std::uint8_t b, std::uint8_t c) {
+    const std::array<std::uint8_t, 3> bytes{a, b, c};
+    return decode_ir_extended(bytes);
+  };
+  EXPECT_FALSE(ext(0xFF, 0xFF, 0xFF));                           // the marker
+  EXPECT_FALSE(ext(0x10, 0xFF, 0xC5));                           // x 16, y 1023: no dot either
+  EXPECT_FALSE(ext(0x10, 0x00, 0xC5));                           // y 768: outside the image
+  const auto last_row = ext(0xFF, 0xFF, 0xB5);                   // x 1023, y 767, size 5: a dot
+  ASSERT_TRUE(last_row);
+  EXPECT_EQ(last_row->x, 1023);
+  EXPECT_EQ(last_row->y, 767);
+  EXPECT_EQ(last_row->size, 5);
+  // Basic: dot 2 of the pair is the marker (X2 = Y2 = FF, its high bits 11 11).
+  const std::array<std::uint8_t, 5> pair{0x64, 0xC8, 0x0F, 0xFF, 0xFF};
+  const auto basic = decode_ir_basic(pair);
+  ASSERT_TRUE(basic[0]);
+  EXPECT_EQ(basic[0]->x, 100);
+  EXPECT_EQ(basic[0]->y, 200);
+  EXPECT_FALSE(basic[1]);
+  // Full: nine FF bytes.
+  std::array<std::uint8_t, 9> full{};
+  full.fill(0xFF);
+  EXPECT_FALSE(decode_ir_full(full));
+}
+
 TEST(WiimoteInput, StatusReadReplyAndAck) {
   const auto st = decode(B{0x20, 0x00, 0x00, 0x1A, 0x00, 0x00, 0xC8});
   ASSERT_TRUE(st.has_value());
@@ -189,4 +245,27 @@ TEST(WiimoteAccel, CalibrationFromEeprom) {
   EXPECT_DOUBLE_EQ(g[2], -1.0);
   cal[9] ^= 0x01;  // bad checksum
   EXPECT_FALSE(parse_accel_calibration(cal).has_value());
+}
+
+// The checksum, as wiimote_protocol.hpp documents it: required, at the tenth
+// byte, the low byte of 0x55 plus all nine bytes before it (0x1E included).
+TEST(WiimoteAccel, ChecksumIsRequiredAndCoversTheNineBytes) {
+  B cal{0x82, 0x82, 0x82, 0x15, 0x9C, 0x9C, 0x9E, 0x38, 0x40};  // sums past 0xFF
+  unsigned sum = 0x55;
+  for (auto v : cal) sum += v;
+  ASSERT_GT(sum, 0xFFu);
+  EXPECT_EQ(sum & 0xFF, 0x3Eu);  // the block wiibrew shows from a real remote ends in 3E
+  EXPECT_FALSE(parse_accel_calibration(cal).has_value()) << "nine bytes: no checksum, no calibration";
+  cal.push_back(static_cast<std::uint8_t>(sum));
+  const auto c = parse_accel_calibration(cal);
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(c->zero[0], (0x82 << 2) | 0x1);    // --XXYYZZ = 00 01 01 01
+  EXPECT_EQ(c->one_g[2], (0x9E << 2) | 0x0);   // --XXYYZZ = 00 11 10 00
+  EXPECT_EQ(c->one_g[0], (0x9C << 2) | 0x3);
+  B no_seed = cal;
+  no_seed[9] = static_cast<std::uint8_t>(sum - 0x55);  // the sum without 0x55
+  EXPECT_FALSE(parse_accel_calibration(no_seed).has_value());
+  B unused_byte = cal;
+  unused_byte[8] ^= 0x01;  // 0x1E is not calibration data but is summed
+  EXPECT_FALSE(parse_accel_calibration(unused_byte).has_value());
 }

@@ -5,6 +5,7 @@
 // half of full IR), status flags, read errors and refused writes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "earshot/tracker/wiimote_protocol.hpp"
@@ -15,10 +16,11 @@ namespace {
 using B = std::vector<std::uint8_t>;
 B bytes(const OutputReport& r) { return {r.view().begin(), r.view().end()}; }
 B write16(std::uint32_t a, B data) {
-  B r{0x16, 0x04, static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8), static_cast<std::uint8_t>(a),
-      static_cast<std::uint8_t>(data.size())};
-  r.insert(r.end(), data.begin(), data.end());
-  r.resize(22, 0);
+  B r(22, 0x00);
+  const B head{0x16, 0x04, static_cast<std::uint8_t>(a >> 16), static_cast<std::uint8_t>(a >> 8),
+               static_cast<std::uint8_t>(a), static_cast<std::uint8_t>(data.size())};
+  std::copy(head.begin(), head.end(), r.begin());
+  std::copy(data.begin(), data.end(), r.begin() + 6);
   return r;
 }
 }  // namespace
@@ -46,13 +48,13 @@ TEST(WiimoteReports, InitSequenceForEveryModeAndSensitivity) {
   const std::vector<Case> cases{
       {IrMode::basic, IrSensitivity::level1, {0x02, 0x00, 0x00, 0x71, 0x01, 0x00, 0x64, 0x00, 0xfe}, {0xfd, 0x05}, 0x01, 0x37},
       {IrMode::extended, IrSensitivity::level5, {0x07, 0x00, 0x00, 0x71, 0x01, 0x00, 0x72, 0x00, 0x20}, {0x1f, 0x03}, 0x03, 0x33},
-      {IrMode::full, IrSensitivity::max, {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}, 0x05, 0x3E},
+      {IrMode::full, IrSensitivity::custom_high, {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0x41}, {0x40, 0x00}, 0x05, 0x3E},
       {IrMode::extended, IrSensitivity::wiiyourself, {0x00, 0x00, 0x00, 0x00, 0x00, 0x00, 0x90, 0x00, 0xc0}, {0x40, 0x00}, 0x03, 0x33},
   };
   for (const auto& c : cases) {
     const auto seq = ir_init_sequence(c.mode, c.s);
     ASSERT_EQ(seq.size(), 8u);
-    const std::vector<B> want{{0x13, 0x04}, {0x1A, 0x04}, write16(0xB00030, {0x08}), write16(0xB00000, c.block1),
+    const std::vector<B> want{{0x13, 0x06}, {0x1A, 0x06}, write16(0xB00030, {0x08}), write16(0xB00000, c.block1),
                               write16(0xB0001A, c.block2), write16(0xB00033, {c.mode_byte}), write16(0xB00030, {0x08}),
                               {0x12, 0x04, c.report}};
     for (std::size_t i = 0; i < 8; ++i) EXPECT_EQ(bytes(seq[i]), want[i]) << "report " << i;
@@ -64,14 +66,14 @@ TEST(WiimoteReports, CoreButtonsAndAccelerometerModes) {
   auto r = decode(B{0x30, 0x01, 0x11});
   ASSERT_TRUE(r);
   auto d = std::get<DataReport>(*r);
-  EXPECT_EQ(d.buttons.bits, Buttons::left | Buttons::minus | Buttons::two);
+  EXPECT_EQ(d.buttons, Buttons{Buttons::left | Buttons::minus | Buttons::two});
   EXPECT_FALSE(d.accel);
   EXPECT_FALSE(d.has_ir);
   // 0x31: buttons + accelerometer; the low bits ride in the button bytes.
   r = decode(B{0x31, static_cast<std::uint8_t>(0x10 | (2 << 5)), static_cast<std::uint8_t>(0x80 | (1 << 5) | (1 << 6)), 0x81, 0x7F, 0x9A});
   ASSERT_TRUE(r);
   d = std::get<DataReport>(*r);
-  EXPECT_EQ(d.buttons.bits, Buttons::plus | Buttons::home);
+  EXPECT_EQ(d.buttons, Buttons{Buttons::plus | Buttons::home});
   ASSERT_TRUE(d.accel);
   EXPECT_EQ(d.accel->x, (0x81 << 2) | 2);
   EXPECT_EQ(d.accel->y, (0x7F << 2) | 2);
@@ -89,7 +91,7 @@ TEST(WiimoteReports, BasicIrWithAccelerometer) {
   const auto in = decode(r);
   ASSERT_TRUE(in);
   const auto& d = std::get<DataReport>(*in);
-  EXPECT_TRUE(d.buttons.pressed(Buttons::a));
+  EXPECT_TRUE(d.buttons->pressed(Buttons::a));
   ASSERT_TRUE(d.accel);
   EXPECT_EQ(d.accel->z, 0x9A << 2);
   ASSERT_TRUE(d.ir[0] && d.ir[1] && !d.ir[2] && d.ir[3]);
@@ -119,6 +121,60 @@ TEST(WiimoteReports, SecondHalfOfFullIr) {
   EXPECT_EQ(d.ir[3]->x_min, 1);
   EXPECT_EQ(d.ir[3]->y_max, 4);
   EXPECT_EQ(d.ir[3]->intensity, 77);
+}
+
+// The modes with extension bytes (the kernel's hid-wiimote picks them when an
+// extension is in use and nobody wants IR): their core buttons and, in 0x35,
+// the accelerometer; 0x3D has extension bytes only.
+TEST(WiimoteReports, ExtensionModesYieldTheirButtons) {
+  B r32{0x32, 0x00, 0x08, 1, 2, 3, 4, 5, 6, 7, 8};  // A; 8 extension bytes
+  auto in = decode(r32);
+  ASSERT_TRUE(in);
+  auto d = std::get<DataReport>(*in);
+  EXPECT_EQ(d.id, 0x32);
+  EXPECT_EQ(d.buttons, Buttons{Buttons::a});
+  EXPECT_FALSE(d.accel);
+  EXPECT_FALSE(d.has_ir);
+
+  B r34{0x34, 0x00, 0x80};  // Home; 19 extension bytes
+  r34.resize(22, 0xA5);
+  in = decode(r34);
+  ASSERT_TRUE(in);
+  d = std::get<DataReport>(*in);
+  EXPECT_EQ(d.buttons, Buttons{Buttons::home});
+  EXPECT_FALSE(d.accel);
+  EXPECT_FALSE(d.has_ir);
+
+  // 0x35: Up + B, accelerometer X = 0x81 << 2 | 1, Y = 0x7F << 2 | 2, Z = 0x9A << 2; 16 extension bytes.
+  B r35{0x35, static_cast<std::uint8_t>(0x08 | (1 << 5)), static_cast<std::uint8_t>(0x04 | (1 << 5)), 0x81, 0x7F, 0x9A};
+  r35.resize(22, 0xFF);
+  in = decode(r35);
+  ASSERT_TRUE(in);
+  d = std::get<DataReport>(*in);
+  EXPECT_EQ(d.buttons, Buttons{Buttons::up | Buttons::b});
+  ASSERT_TRUE(d.accel);
+  EXPECT_EQ(d.accel->x, (0x81 << 2) | 1);
+  EXPECT_EQ(d.accel->y, (0x7F << 2) | 2);
+  EXPECT_EQ(d.accel->z, 0x9A << 2);
+  EXPECT_FALSE(d.has_ir);
+
+  B r3d{0x3D};  // 21 extension bytes, no buttons
+  r3d.resize(22, 0x08);
+  in = decode(r3d);
+  ASSERT_TRUE(in);
+  d = std::get<DataReport>(*in);
+  EXPECT_EQ(d.id, 0x3D);
+  EXPECT_FALSE(d.buttons);
+  EXPECT_FALSE(d.accel);
+  EXPECT_FALSE(d.has_ir);
+
+  std::string why;  // torn: one byte short each
+  EXPECT_FALSE(decode(B(r32.begin(), r32.end() - 1), &why));
+  EXPECT_EQ(why, "report 0x32 too short: 10 bytes, need 11");
+  EXPECT_FALSE(decode(B(r35.begin(), r35.end() - 1), &why));
+  EXPECT_EQ(why, "report 0x35 too short: 21 bytes, need 22");
+  EXPECT_FALSE(decode(B(r3d.begin(), r3d.end() - 1), &why));
+  EXPECT_EQ(why, "report 0x3D too short: 21 bytes, need 22");
 }
 
 TEST(WiimoteReports, StatusFlagsReadErrorsAndRefusedWrites) {

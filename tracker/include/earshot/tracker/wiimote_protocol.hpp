@@ -37,10 +37,12 @@ struct OutputReport {
 [[nodiscard]] OutputReport set_leds(std::uint8_t leds, bool rumble = false);
 /// 0x12: data reporting mode (e.g. 0x33), continuous or on change only.
 [[nodiscard]] OutputReport set_reporting_mode(std::uint8_t mode, bool continuous, bool rumble = false);
-/// 0x13: IR camera pixel clock enable.
-[[nodiscard]] OutputReport ir_enable(bool on, bool rumble = false);
-/// 0x1A: IR camera logic enable.
-[[nodiscard]] OutputReport ir_enable2(bool on, bool rumble = false);
+/// 0x13: IR camera pixel clock enable (`13 04` on). With `ack` the report
+/// also asks for an acknowledgement (`13 06`), as the Wii and the kernel's
+/// hid-wiimote send it.
+[[nodiscard]] OutputReport ir_enable(bool on, bool rumble = false, bool ack = false);
+/// 0x1A: IR camera logic enable (`1A 04` on; `1A 06` with `ack`).
+[[nodiscard]] OutputReport ir_enable2(bool on, bool rumble = false, bool ack = false);
 /// 0x15: status request.
 [[nodiscard]] OutputReport status_request(bool rumble = false);
 /// 0x16: write up to 16 bytes to the register space (address byte 0x04) at `address`
@@ -53,13 +55,38 @@ struct OutputReport {
 [[nodiscard]] OutputReport read_memory(std::uint32_t address, std::uint16_t size, bool register_space = false,
                                        bool rumble = false);
 
+/// Bit 1 of the first payload byte of 0x11, 0x12, 0x13 and 0x1A asks the
+/// remote to answer with an acknowledgement (input report 0x22).
+inline constexpr std::uint8_t kAckRequest = 0x02;
+
+/// Whether the remote answers `r` with an acknowledgement (0x22 naming r's
+/// ID, with an error code): always for a memory write (0x16), and for 0x11,
+/// 0x12, 0x13 and 0x1A when they carry kAckRequest.
+[[nodiscard]] bool expects_acknowledgement(const OutputReport& r);
+
+/// `r` for people, e.g. "0x13 (IR pixel clock enable)" or
+/// "0x16 (write of 9 bytes to register 0xB00000)".
+[[nodiscard]] std::string describe(const OutputReport& r);
+
 // ---- IR camera set-up ----------------------------------------------------
 
 enum class IrMode : std::uint8_t { basic = 1, extended = 3, full = 5 };
 
 /// Sensitivity blocks in use by peers (block 1: 9 bytes at 0xB00000,
-/// block 2: 2 bytes at 0xB0001A).
-enum class IrSensitivity { level1, level3, level5, max, wiiyourself };
+/// block 2: 2 bytes at 0xB0001A). What is known of them (the Wiimote
+/// project wiki's IR sensor register map): block 1 byte 6 is the largest
+/// blob, byte 8 the gain (smaller is more gain); block 2 is the gain limit
+/// (below the gain) and the smallest blob.
+///  - level1, level3, level5: the Wii's own levels 1, 3 and 5 (wiibrew;
+///    wiiuse and the kernel's hid-wiimote use level 3).
+///  - custom_high: `00 00 00 00 00 00 90 00 41` / `40 00`, not a Wii level:
+///    wiibrew's table lists it as "suggested by inio (high sensitivity)" and
+///    peers offer it as a custom high setting. Some call it "max", but the
+///    table's "max sensitivity" is another block (`... ff 00 0c` / `00 00`).
+///  - wiiyourself: `00 00 00 00 00 00 90 00 c0` / `40 00`, as WiiYourself
+///    uses (wiibrew's table: "suggested by Marcan").
+/// No user input names these (WiimoteOptions sets one in code).
+enum class IrSensitivity { level1, level3, level5, custom_high, wiiyourself };
 
 struct SensitivityBlocks {
   std::array<std::uint8_t, 9> block1;
@@ -71,9 +98,11 @@ struct SensitivityBlocks {
 /// accelerometer: 0x33 (extended), 0x37 (basic, with extension bytes), 0x3E (full).
 [[nodiscard]] std::uint8_t reporting_mode_for(IrMode mode);
 
-/// The IR initialisation sequence, in order: enable 1 and 2, B00030 = 08,
-/// sensitivity blocks, mode at B00033, B00030 = 08 again, reporting mode.
-/// Send each, wait for its acknowledgement (0x22) where one is due.
+/// The IR initialisation sequence, in order: enable 1 and 2 (each asking for
+/// an acknowledgement: `13 06`, `1A 06`), B00030 = 08, sensitivity blocks,
+/// mode at B00033, B00030 = 08 again, reporting mode (not acknowledged).
+/// Send each and wait for its acknowledgement (0x22) where
+/// expects_acknowledgement() says one is due.
 [[nodiscard]] std::vector<OutputReport> ir_init_sequence(IrMode mode, IrSensitivity s, bool rumble = false);
 
 // ---- Input reports (remote -> host) --------------------------------------
@@ -85,8 +114,12 @@ struct Buttons {
                                  two = 0x0100, one = 0x0200, b = 0x0400, a = 0x0800, minus = 0x1000,
                                  home = 0x8000;
   [[nodiscard]] bool pressed(std::uint16_t mask) const { return (bits & mask) != 0; }
+  friend bool operator==(const Buttons&, const Buttons&) = default;
 };
 
+/// One IR dot. The camera marks an empty slot with all bits set (x = y =
+/// 1023; in the extended format the bytes `FF FF FF`); the decoders return
+/// no dot for that and for any y above 767, which the sensor never reports.
 struct IrDot {
   std::uint16_t x = 0, y = 0;  ///< 0..1023, 0..767
   std::uint8_t size = 0;       ///< 0..15 (extended and full formats)
@@ -120,13 +153,23 @@ struct Acknowledge {
   std::uint8_t error = 0;
 };
 
+/// A data report (0x30-0x37, 0x3D-0x3F). What each carries besides
+/// extension bytes (which we do not decode):
+///   0x30 buttons; 0x31 buttons, accelerometer; 0x32 buttons (+8);
+///   0x33 buttons, accelerometer, extended IR; 0x34 buttons (+19);
+///   0x35 buttons, accelerometer (+16); 0x36 buttons, basic IR (+9);
+///   0x37 buttons, accelerometer, basic IR (+6); 0x3D extension bytes only
+///   (21: no buttons); 0x3E/0x3F buttons and half of the full IR (the
+///   accelerometer is split across the pair and not decoded).
 struct DataReport {
   std::uint8_t id = 0;
-  Buttons buttons;
+  std::optional<Buttons> buttons;  ///< none in 0x3D
   std::optional<AccelRaw> accel;
   std::array<std::optional<IrDot>, 4> ir{};  ///< by camera slot; empty = not seen
   bool has_ir = false;
-  /// Full IR (0x3E/0x3F) carries two dots per report: slots 0-1 or 2-3.
+  /// Full IR (0x3E/0x3F) carries two dots per report: slots 0-1 (0x3E) or
+  /// 2-3 (0x3F). The two make one camera frame only as a pair, 0x3E then
+  /// 0x3F; the reports carry no frame counter, so pairing is the reader's job.
   int ir_first_slot = 0, ir_slot_count = 4;
 };
 
@@ -153,9 +196,11 @@ struct AccelCalibration {
   [[nodiscard]] std::array<double, 3> apply(const AccelRaw& raw) const;
 };
 
-/// Parses the 10 bytes read from EEPROM 0x0016 (zero-g X,Y,Z; low bits;
-/// +1 g X,Y,Z; low bits as --XXYYZZ). nullopt when the checksum (byte sum
-/// + 0x55, in the byte after the block, if given) does not match or a gain is zero.
+/// Parses the 10 bytes read from EEPROM 0x0016: zero-g X,Y,Z (high 8 bits),
+/// their low bits as --XXYYZZ, +1 g X,Y,Z, their low bits, then at 0x1F a
+/// checksum: the low byte of 0x55 plus the sum of the nine bytes before it.
+/// The checksum is required: nullopt for fewer than 10 bytes, a checksum
+/// that does not match, or a zero gain (+1 g equal to zero g) on any axis.
 [[nodiscard]] std::optional<AccelCalibration> parse_accel_calibration(std::span<const std::uint8_t> bytes);
 
 }  // namespace earshot::tracker::wiimote

@@ -2,11 +2,21 @@
 //
 // Connect: find 057e:0306 or 057e:0330 (not a Wii U Pro controller), open it,
 // light player LED 1, read the accelerometer calibration (EEPROM 0x16), run
-// the IR init sequence (wiimote_protocol.hpp) waiting for each register
-// write's acknowledgement. Then every IR data report becomes a CameraFrame
-// (dots, calibrated accelerometer in the camera frame, buttons). A read that
-// fails means the remote went away: the source says so and reconnects on its
-// own, every `retry_s`. Malformed reports are counted and dropped.
+// the IR init sequence (wiimote_protocol.hpp) waiting for the acknowledgement
+// of each report that asks for one (the IR enables and the register writes):
+// a missing one is sent once more, then the connection fails naming the
+// report; an acknowledgement with an error code fails it at once.
+//
+// Then every data report becomes a CameraFrame (dots, calibrated
+// accelerometer in the camera frame, buttons). Reports without IR (0x30-0x32,
+// 0x34, 0x35: the kernel's hid-wiimote may switch the remote to them) give a
+// frame with no dots, so the buttons (A/Home recenter) still arrive; 0x3D has
+// no buttons and gives nothing. Full IR comes in halves: a 0x3E and the
+// report right after it, if that is a 0x3F, make one frame; a 0x3E followed
+// by anything else, or a 0x3F without its 0x3E, is a lost half and dropped.
+// A read that fails means the remote went away: the source says so and
+// reconnects on its own, every `retry_s`. Malformed reports are counted and
+// dropped.
 //
 // With no remote at the first attempt it throws WiimoteError (with how to
 // pair one) instead of waiting forever; after a first connection it keeps
@@ -34,7 +44,7 @@ struct WiimoteOptions {
   wiimote::IrMode mode = wiimote::IrMode::extended;
   wiimote::IrSensitivity sensitivity = wiimote::IrSensitivity::level3;
   double retry_s = 1.0;                                      ///< between reconnection attempts
-  std::chrono::milliseconds reply_timeout{500};              ///< for each ack / read reply
+  std::chrono::milliseconds reply_timeout{500};              ///< for each ack / read reply (per attempt)
   std::function<double()> clock;                             ///< seconds; default steady clock
   bool wait_for_remote = false;  ///< no remote yet: a `searching` note instead of WiimoteError
 };
@@ -56,6 +66,9 @@ class WiimoteSource final : public FrameSource {
   SourceEvent connect();
   /// Sends the init sequence; false (with `why`) when the remote stops answering.
   bool initialise(std::string& why);
+  /// Sends `report` and, when it is acknowledged, waits for its 0x22 (twice
+  /// at most); false with `why` naming the report and what went wrong.
+  bool send(const wiimote::OutputReport& report, std::string& why);
   /// Reads until `want` says yes or the reply timeout passes.
   bool await(const std::function<bool(const wiimote::InputReport&)>& want);
   SourceEvent lose(const std::string& why);
@@ -66,7 +79,8 @@ class WiimoteSource final : public FrameSource {
   bool connected_ = false, ever_connected_ = false;
   double next_attempt_ = 0.0;
   wiimote::AccelCalibration cal_;
-  std::array<std::optional<wiimote::IrDot>, 4> full_ir_{};  // first half of a full-format pair
+  /// The dots of a 0x3E waiting for its 0x3F (the very next report).
+  std::optional<std::array<std::optional<wiimote::IrDot>, 2>> first_half_;
   std::uint64_t dropped_ = 0;
 };
 

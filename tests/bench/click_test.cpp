@@ -67,7 +67,7 @@ Stereo render_earshot(std::size_t blocks, bool turning, const std::shared_ptr<co
   Stereo out{std::vector<float>(blocks * kBlock), std::vector<float>(blocks * kBlock)};
   for (std::size_t b = 0; b < blocks; ++b) {
     earshot::audio::ListenerState l;
-    l.orientation = earshot::audio::quat_from_ypr(yaw_at_block(b, turning), 0, 0);
+    l.orientation = earshot::quat_from_ypr(yaw_at_block(b, turning), 0, 0);
     r.set_listener(l);
     std::span<float> in = r.source_input(id);
     for (std::size_t n = 0; n < kBlock; ++n) in[n] = tone[(b * kBlock + n) % tone.size()];
@@ -86,7 +86,7 @@ Stereo render_openal(std::size_t blocks, bool turning, std::string& hrtf_name) {
   al.play_loop(0, al.add_buffer(tone));
   Stereo out{std::vector<float>(blocks * kBlock), std::vector<float>(blocks * kBlock)};
   for (std::size_t b = 0; b < blocks; ++b) {
-    al.set_listener_orientation(earshot::audio::quat_from_ypr(yaw_at_block(b, turning), 0, 0));
+    al.set_listener_orientation(earshot::quat_from_ypr(yaw_at_block(b, turning), 0, 0));
     al.render(std::span(out.left).subspan(b * kBlock, kBlock), std::span(out.right).subspan(b * kBlock, kBlock));
   }
   return out;

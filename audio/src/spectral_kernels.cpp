@@ -1,66 +1,33 @@
 #include "earshot/audio/spectral_kernels.hpp"
 
-// Not in sanitizer builds: the clones are chosen by an ifunc resolver that
-// runs while the library is relocated, before a sanitizer's runtime is up
-// (TSan crashes there); those builds test the baseline code.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(EARSHOT_SANITIZED)
-#define EARSHOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define EARSHOT_CLONES
-#endif
+#include "earshot/audio/simd_kernels.hpp"
 
+// The named kernels: each runs the chosen instruction set's (simd/*.cpp).
 namespace earshot::audio::kernels {
 
-EARSHOT_CLONES void multiply_add(const float* __restrict x, const float* __restrict h, float* __restrict acc,
-                                 std::size_t S) {
-  const float *xr = x, *xi = x + S, *hr = h, *hi = h + S;
-  float *ar = acc, *ai = acc + S;
-  for (std::size_t k = 0; k < S; ++k) {
-    ar[k] += xr[k] * hr[k] - xi[k] * hi[k];
-    ai[k] += xr[k] * hi[k] + xi[k] * hr[k];
-  }
+void multiply_add(const float* x, const float* h, float* acc, std::size_t S) {
+  simd::kernels().multiply_add(x, h, acc, S);
 }
 
-EARSHOT_CLONES void multiply_add_scaled(const float* __restrict x, const std::int16_t* __restrict h, float scale,
-                                        float* __restrict acc, std::size_t S) {
-  const float *xr = x, *xi = x + S;
-  const std::int16_t *hr = h, *hi = h + S;
-  float *ar = acc, *ai = acc + S;
-  for (std::size_t k = 0; k < S; ++k) {
-    const float re = scale * static_cast<float>(hr[k]), im = scale * static_cast<float>(hi[k]);
-    ar[k] += xr[k] * re - xi[k] * im;
-    ai[k] += xr[k] * im + xi[k] * re;
-  }
+void multiply_add_scaled(const float* x, const std::int16_t* h, float scale, float* acc, std::size_t S) {
+  simd::kernels().multiply_add_scaled(x, h, scale, acc, S);
 }
 
-EARSHOT_CLONES void add_shaped(const float* __restrict x, float c0, float c1, float c2, const float* __restrict r,
-                               const float* __restrict r2, float* __restrict out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out[i] += (c0 + c1 * r[i] + c2 * r2[i]) * x[i];
+void add_shaped(const float* x, float c0, float c1, float c2, const float* r, const float* r2, float* out,
+                std::size_t n) {
+  simd::kernels().add_shaped(x, c0, c1, c2, r, r2, out, n);
 }
 
-void to_planar(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {
-  const float* __restrict f = reinterpret_cast<const float*>(in);
-  for (std::size_t k = 0; k < n; ++k) {
-    out[k] = f[2 * k];
-    out[S + k] = f[2 * k + 1];
-  }
+void to_planar(const std::complex<float>* in, std::size_t n, float* out, std::size_t S) {
+  simd::kernels().to_planar(in, n, out, S);
 }
 
-void to_planar_odd_negated(const std::complex<float>* in, std::size_t n, float* __restrict out, std::size_t S) {
-  const float* __restrict f = reinterpret_cast<const float*>(in);
-  for (std::size_t k = 0; k < n; ++k) {
-    const float sign = (k & 1) ? -1.0f : 1.0f;
-    out[k] = sign * f[2 * k];
-    out[S + k] = sign * f[2 * k + 1];
-  }
+void to_planar_odd_negated(const std::complex<float>* in, std::size_t n, float* out, std::size_t S) {
+  simd::kernels().to_planar_odd_negated(in, n, out, S);
 }
 
-void to_interleaved(const float* __restrict in, std::size_t S, std::complex<float>* out, std::size_t n) {
-  float* __restrict f = reinterpret_cast<float*>(out);
-  for (std::size_t k = 0; k < n; ++k) {
-    f[2 * k] = in[k];
-    f[2 * k + 1] = in[S + k];
-  }
+void to_interleaved(const float* in, std::size_t S, std::complex<float>* out, std::size_t n) {
+  simd::kernels().to_interleaved(in, S, out, n);
 }
 
 }  // namespace earshot::audio::kernels

@@ -1,8 +1,9 @@
 // The renderer's innermost loops, mostly over partitioned spectra in planar layout
 // (a partition of S bins is S real parts, then S imaginary parts: plain
-// vertical arithmetic that vectorises without shuffles). Compiled twice
-// (AVX2+FMA and baseline x86-64) and picked at load time for the CPU that
-// runs them. Pointers may not overlap; S (bins) must be a multiple of 8.
+// vertical arithmetic that vectorises without shuffles). Each call runs the
+// kernel of the instruction set chosen once for this process (AVX2+FMA or
+// baseline: simd_kernels.hpp). Pointers may not overlap; S (bins) must be a
+// multiple of 8.
 #pragma once
 
 #include <complex>

@@ -78,10 +78,6 @@ const Kernels& kernels(Isa isa) {
   return portable_kernels;
 }
 
-const Kernels& kernels() {
-  // Thread-safe once: C++ runs this initialiser exactly once.
-  static const Kernels& chosen = kernels(choose(std::getenv("EARSHOT_SIMD")));
-  return chosen;
-}
+const Kernels& kernels_for_this_process() { return kernels(choose(std::getenv("EARSHOT_SIMD"))); }
 
 }  // namespace earshot::audio::simd

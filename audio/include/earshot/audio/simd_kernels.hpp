@@ -53,11 +53,19 @@ struct Kernels {
 /// instruction set this CPU or build lacks.
 [[nodiscard]] Isa choose(const char* request);
 
+/// kernels(isa) for the instruction set choose() picks from EARSHOT_SIMD
+/// (read on each call: call kernels() instead).
+[[nodiscard]] const Kernels& kernels_for_this_process();
+
 /// The kernels every caller uses: chosen once, by the first call, from
 /// EARSHOT_SIMD (read then, never again) and CPUID. The first call comes
 /// from a constructor (FractionalDelay, HrtfSpectra), not from the audio
 /// thread; a bad EARSHOT_SIMD throws there (and again on each later call).
-[[nodiscard]] const Kernels& kernels();
+/// Inline: after the first call, a guard check and a load at each kernel call.
+[[nodiscard]] inline const Kernels& kernels() {
+  static const Kernels& chosen = kernels_for_this_process();  // initialised once, thread-safely
+  return chosen;
+}
 
 /// One instruction set's kernels, for tests that compare paths. Throws
 /// std::runtime_error if !supported(isa).

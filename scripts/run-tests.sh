@@ -26,8 +26,9 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
 echo "== TSan build (threaded tests, label threads)"
 cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
-cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests
+cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests audio_tests
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -L threads
+TSAN_OPTIONS=halt_on_error=1 build/tsan/tests/unit/audio_tests --gtest_filter='SimdDispatch.*:SpectralKernels.*:FractionalDelay.*'
 
 echo "== fuzz smoke (libFuzzer + ASan/UBSan, ${EARSHOT_FUZZ_SECONDS:-20} s per target)"
 CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \

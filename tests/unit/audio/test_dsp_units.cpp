@@ -2,11 +2,15 @@
 
 #include <array>
 #include <cmath>
+#include <complex>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <mutex>
 #include <numbers>
 #include <random>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "alloc_counter.hpp"
@@ -14,6 +18,7 @@
 #include "earshot/audio/aligned_vector.hpp"
 #include "earshot/audio/direction_bank.hpp"
 #include "earshot/audio/fractional_delay.hpp"
+#include "earshot/audio/simd_kernels.hpp"
 #include "earshot/audio/spectral_kernels.hpp"
 #include "earshot/audio/real_fft.hpp"
 
@@ -161,6 +166,49 @@ TEST(DirectionBank, ALaneStopsWithItsInputAndItsTailRingsOut) {
   for (float v : l) ASSERT_EQ(v, 1.0f);  // nothing left to add
 }
 
+namespace {
+/// The instruction sets this build and CPU run: each kernel test runs on all of them.
+std::vector<simd::Isa> runnable_isas() {
+  std::vector<simd::Isa> v;
+  for (const auto isa : {simd::Isa::portable, simd::Isa::avx2})
+    if (simd::supported(isa)) v.push_back(isa);
+  return v;
+}
+}  // namespace
+
+TEST(SimdDispatch, ChosenOnceAndTheBestTheCpuRunsUnlessOverridden) {
+  const simd::Kernels& k = simd::kernels();
+  EXPECT_EQ(&k, &simd::kernels());
+  EXPECT_TRUE(simd::supported(k.isa));
+  EXPECT_EQ(&k, &simd::kernels(k.isa));
+  const char* asked = std::getenv("EARSHOT_SIMD");
+  if (asked == nullptr || *asked == '\0')
+    EXPECT_EQ(k.isa, simd::supported(simd::Isa::avx2) ? simd::Isa::avx2 : simd::Isa::portable);
+  else
+    EXPECT_EQ(simd::name(k.isa), asked);
+}
+
+TEST(SimdDispatch, TheOverrideNamesAnInstructionSetTheCpuRuns) {
+  EXPECT_TRUE(simd::supported(simd::Isa::portable));
+  EXPECT_EQ(simd::choose("portable"), simd::Isa::portable);
+  EXPECT_EQ(simd::choose(nullptr), simd::choose(""));
+  if (simd::supported(simd::Isa::avx2)) {
+    EXPECT_EQ(simd::choose("avx2"), simd::Isa::avx2);
+    EXPECT_EQ(simd::choose(nullptr), simd::Isa::avx2);
+    EXPECT_EQ(simd::kernels(simd::Isa::avx2).isa, simd::Isa::avx2);
+  } else {
+    EXPECT_THROW((void)simd::choose("avx2"), std::runtime_error);
+    EXPECT_THROW((void)simd::kernels(simd::Isa::avx2), std::runtime_error);
+  }
+  EXPECT_EQ(simd::kernels(simd::Isa::portable).isa, simd::Isa::portable);
+  try {
+    (void)simd::choose("AVX512");
+    ADD_FAILURE() << "an unknown instruction set was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("EARSHOT_SIMD=AVX512"), std::string::npos) << e.what();
+  }
+}
+
 TEST(SpectralKernels, MultiplyAddOfScaledIntegersEqualsTheWidenedProduct) {
   const std::size_t S = 136;
   const auto x = noise(2 * S, 30), a0 = noise(2 * S, 32);
@@ -169,12 +217,77 @@ TEST(SpectralKernels, MultiplyAddOfScaledIntegersEqualsTheWidenedProduct) {
   std::vector<std::int16_t> h(2 * S);
   for (auto& v : h) v = static_cast<std::int16_t>(q(rng));
   const float scale = 3.0e-5f;
-  std::vector<float> acc = a0;
-  kernels::multiply_add_scaled(x.data(), h.data(), scale, acc.data(), S);
-  for (std::size_t k = 0; k < S; ++k) {
-    const double re = double(scale) * h[k], im = double(scale) * h[S + k];
-    ASSERT_NEAR(acc[k], a0[k] + x[k] * re - x[S + k] * im, 1e-6) << k;
-    ASSERT_NEAR(acc[S + k], a0[S + k] + x[k] * im + x[S + k] * re, 1e-6) << k;
+  for (const auto isa : runnable_isas()) {
+    std::vector<float> acc = a0;
+    simd::kernels(isa).multiply_add_scaled(x.data(), h.data(), scale, acc.data(), S);
+    for (std::size_t k = 0; k < S; ++k) {
+      const double re = double(scale) * h[k], im = double(scale) * h[S + k];
+      ASSERT_NEAR(acc[k], a0[k] + x[k] * re - x[S + k] * im, 1e-6) << simd::name(isa) << " bin " << k;
+      ASSERT_NEAR(acc[S + k], a0[S + k] + x[k] * im + x[S + k] * re, 1e-6) << simd::name(isa) << " bin " << k;
+    }
+  }
+  // The named kernel runs the chosen set's.
+  std::vector<float> named = a0, chosen = a0;
+  kernels::multiply_add_scaled(x.data(), h.data(), scale, named.data(), S);
+  simd::kernels().multiply_add_scaled(x.data(), h.data(), scale, chosen.data(), S);
+  EXPECT_EQ(named, chosen);
+}
+
+TEST(SpectralKernels, MultiplyAddAccumulatesTheComplexProduct) {
+  const std::size_t S = 136;
+  const auto x = noise(2 * S, 33), h = noise(2 * S, 34), a0 = noise(2 * S, 35);
+  for (const auto isa : runnable_isas()) {
+    std::vector<float> acc = a0;
+    simd::kernels(isa).multiply_add(x.data(), h.data(), acc.data(), S);
+    for (std::size_t k = 0; k < S; ++k) {
+      const std::complex<double> p = std::complex<double>(x[k], x[S + k]) * std::complex<double>(h[k], h[S + k]);
+      ASSERT_NEAR(acc[k], a0[k] + p.real(), 1e-6) << simd::name(isa) << " bin " << k;
+      ASSERT_NEAR(acc[S + k], a0[S + k] + p.imag(), 1e-6) << simd::name(isa) << " bin " << k;
+    }
+  }
+}
+
+TEST(SpectralKernels, AddShapedAddsTheSignalUnderTheGainCurve) {
+  const std::size_t n = 61;  // not a multiple of eight: the vector loops' remainders run too
+  const auto x = noise(n, 36), o0 = noise(n, 37);
+  std::vector<float> r(n), r2(n);
+  for (std::size_t i = 0; i < n; ++i) r[i] = float(i + 1) / float(n), r2[i] = r[i] * r[i];
+  const float c0 = 0.25f, c1 = 0.5f, c2 = -0.125f;
+  for (const auto isa : runnable_isas()) {
+    std::vector<float> out = o0;
+    simd::kernels(isa).add_shaped(x.data(), c0, c1, c2, r.data(), r2.data(), out.data(), n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const double gain = c0 + double(c1) * r[i] + double(c2) * r2[i];
+      ASSERT_NEAR(out[i], o0[i] + gain * x[i], 1e-6) << simd::name(isa) << " sample " << i;
+    }
+  }
+}
+
+TEST(SpectralKernels, LayoutChangesMoveEveryValueExactly) {
+  const std::size_t n = 129, S = 136;  // 256-point spectra: 129 bins padded to 136
+  const auto v = noise(2 * n, 38);
+  std::vector<std::complex<float>> in(n);
+  for (std::size_t k = 0; k < n; ++k) in[k] = {v[2 * k], v[2 * k + 1]};
+  for (const auto isa : runnable_isas()) {
+    const simd::Kernels& k = simd::kernels(isa);
+    std::vector<float> planar(2 * S, 7.0f), negated(2 * S, 7.0f);
+    k.to_planar(in.data(), n, planar.data(), S);
+    k.to_planar_odd_negated(in.data(), n, negated.data(), S);
+    for (std::size_t b = 0; b < S; ++b) {
+      if (b < n) {
+        const float sign = b % 2 ? -1.0f : 1.0f;
+        ASSERT_EQ(planar[b], in[b].real()) << simd::name(isa) << " bin " << b;
+        ASSERT_EQ(planar[S + b], in[b].imag()) << simd::name(isa) << " bin " << b;
+        ASSERT_EQ(negated[b], sign * in[b].real()) << simd::name(isa) << " bin " << b;
+        ASSERT_EQ(negated[S + b], sign * in[b].imag()) << simd::name(isa) << " bin " << b;
+      } else {  // padding is left as it was
+        ASSERT_EQ(planar[b], 7.0f);
+        ASSERT_EQ(planar[S + b], 7.0f);
+      }
+    }
+    std::vector<std::complex<float>> back(n);
+    k.to_interleaved(planar.data(), S, back.data(), n);
+    EXPECT_EQ(back, in) << simd::name(isa);
   }
 }
 
@@ -251,10 +364,10 @@ TEST(FractionalDelay, GlidingReadsMatchTheExactKernel) {
   // cross many per group (each sample its own kernel); both directions,
   // through whole samples and around the ring, on the CPU-specific and the
   // portable path, and with a block that is not a multiple of eight.
-  for (const bool portable : {false, true}) {
+  for (const auto isa : runnable_isas()) {
     for (const std::size_t B : {std::size_t{128}, std::size_t{61}}) {
       for (const double rate : {2e-5, 4e-4, 0.005, 0.04, 0.4, -0.005, -0.4}) {
-        FractionalDelay line(B, 200, portable);
+        FractionalDelay line(B, 200, simd::kernels(isa));
         const std::size_t blocks = 60;
         const auto x = noise(B * blocks, 31);
         std::vector<float> y(B);
@@ -272,7 +385,7 @@ TEST(FractionalDelay, GlidingReadsMatchTheExactKernel) {
           }
           d = next;
         }
-        EXPECT_LT(worst, 2e-5) << (portable ? "portable" : "fastest") << " block " << B << " rate " << rate;
+        EXPECT_LT(worst, 2e-5) << simd::name(isa) << " block " << B << " rate " << rate;
       }
     }
   }

@@ -15,11 +15,12 @@
 // samples (a fixed latency callers add).
 //
 // A read whose delay does not move across the block runs as one fixed FIR
-// (vectorised across samples). A gliding read takes eight or sixteen
+// (vectorised across samples). A gliding read runs the chosen instruction
+// set's kernel (simd_kernels.hpp). The AVX2 one takes eight or sixteen
 // samples at a time: their kernels mostly share a cell, so the three
 // coefficient FIRs run across those samples together and the quadratic
-// combines them per sample (AVX2 where the CPU has it); groups of eight that
-// span more than three cells (a fast Doppler glide) compute one kernel per
+// combines them per sample; groups of eight that span more than three cells
+// (a fast Doppler glide), and the portable kernel, compute one kernel per
 // sample. Allocates at construction only.
 #pragma once
 
@@ -27,6 +28,8 @@
 #include <cmath>
 #include <span>
 #include <vector>
+
+#include "earshot/audio/simd_kernels.hpp"
 
 namespace earshot::audio {
 
@@ -36,8 +39,10 @@ class FractionalDelay {
   static constexpr std::size_t kTaps = 16;
   static constexpr std::size_t kCells = 32;  // kernel cells per sample of fraction, a power of two
 
-  /// `portable` skips the CPU-specific gliding read (tests compare the two).
-  FractionalDelay(std::size_t block, double max_delay_samples, bool portable = false);
+  /// `isa_kernels` runs the gliding read (tests pass each instruction set's
+  /// to compare them; the default is the one chosen for this process).
+  FractionalDelay(std::size_t block, double max_delay_samples,
+                  const simd::Kernels& isa_kernels = simd::kernels());
 
   /// Writes `in` and reads `out` (both block samples) at a delay moving to
   /// `delay_samples` (clamped to [kMinDelay, max]). The first call starts there.
@@ -67,7 +72,7 @@ class FractionalDelay {
   double max_delay_;
   double delay_ = -1.0;  // previous block's delay; < 0 before the first block
   const float* kernels_;  // kCells cells of three coefficient rows, shared and immutable
-  bool avx2_ = false;     // the gliding read's AVX2 path (checked once, here, not per block)
+  const simd::Kernels* simd_;  // the gliding read's instruction set (chosen once, not per block)
 };
 
 }  // namespace earshot::audio

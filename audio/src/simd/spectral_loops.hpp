@@ -1,18 +1,20 @@
-#include "earshot/audio/spectral_kernels.hpp"
+// The spectral kernels as plain loops, written once and compiled once per
+// instruction set: each file that includes this (portable.cpp, avx2.cpp)
+// lets the compiler vectorise them with its own flags. Their contracts are
+// in earshot/audio/spectral_kernels.hpp.
+//
+// Internal linkage (the unnamed namespace), so each file keeps its own
+// copy: the linker can never hand baseline code a copy built for AVX2.
+#pragma once
 
-// Not in sanitizer builds: the clones are chosen by an ifunc resolver that
-// runs while the library is relocated, before a sanitizer's runtime is up
-// (TSan crashes there); those builds test the baseline code.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(EARSHOT_SANITIZED)
-#define EARSHOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define EARSHOT_CLONES
-#endif
+#include <complex>
+#include <cstddef>
+#include <cstdint>
 
-namespace earshot::audio::kernels {
+namespace earshot::audio::simd {
+namespace {
 
-EARSHOT_CLONES void multiply_add(const float* __restrict x, const float* __restrict h, float* __restrict acc,
-                                 std::size_t S) {
+void multiply_add(const float* __restrict x, const float* __restrict h, float* __restrict acc, std::size_t S) {
   const float *xr = x, *xi = x + S, *hr = h, *hi = h + S;
   float *ar = acc, *ai = acc + S;
   for (std::size_t k = 0; k < S; ++k) {
@@ -21,8 +23,8 @@ EARSHOT_CLONES void multiply_add(const float* __restrict x, const float* __restr
   }
 }
 
-EARSHOT_CLONES void multiply_add_scaled(const float* __restrict x, const std::int16_t* __restrict h, float scale,
-                                        float* __restrict acc, std::size_t S) {
+void multiply_add_scaled(const float* __restrict x, const std::int16_t* __restrict h, float scale,
+                         float* __restrict acc, std::size_t S) {
   const float *xr = x, *xi = x + S;
   const std::int16_t *hr = h, *hi = h + S;
   float *ar = acc, *ai = acc + S;
@@ -33,8 +35,8 @@ EARSHOT_CLONES void multiply_add_scaled(const float* __restrict x, const std::in
   }
 }
 
-EARSHOT_CLONES void add_shaped(const float* __restrict x, float c0, float c1, float c2, const float* __restrict r,
-                               const float* __restrict r2, float* __restrict out, std::size_t n) {
+void add_shaped(const float* __restrict x, float c0, float c1, float c2, const float* __restrict r,
+                const float* __restrict r2, float* __restrict out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] += (c0 + c1 * r[i] + c2 * r2[i]) * x[i];
 }
 
@@ -63,4 +65,5 @@ void to_interleaved(const float* __restrict in, std::size_t S, std::complex<floa
   }
 }
 
-}  // namespace earshot::audio::kernels
+}  // namespace
+}  // namespace earshot::audio::simd

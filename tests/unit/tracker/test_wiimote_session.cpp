@@ -68,6 +68,16 @@ std::deque<Step>::iterator find_step(std::deque<Step>& s, K kind, const Bytes& b
   return std::find_if(s.begin(), s.end(), [&](const Step& x) { return x.kind == kind && x.bytes == bytes; });
 }
 
+/// The init script up to the acknowledgement `reply`, which never comes: the
+/// write goes out once more (`resent`) and the script ends there.
+std::deque<Step> init_left_unanswered(const Bytes& reply, const Bytes& resent) {
+  std::deque<Step> s;
+  add_init(s);
+  const auto at = s.insert(s.erase(find_step(s, K::reply, reply)), {K::expect_write, resent});
+  s.erase(std::next(at), s.end());
+  return s;
+}
+
 /// 0x33: buttons, accel (remote face up: +1 g on z), four dots at
 /// (100,200) (300,200) (100,400) (300,400).
 Bytes ir_report(std::uint8_t buttons_hi = 0x00) {
@@ -242,11 +252,8 @@ std::string first_connect_error(WiimoteSource& src) {
 // A register write whose acknowledgement never comes is sent once more,
 // then the connect fails naming it.
 TEST(WiimoteSession, ARegisterWriteNeverAcknowledgedFailsNamingIt) {
-  std::deque<Step> s;
-  add_init(s);
-  auto at = s.erase(find_step(s, K::reply, kAck16));  // after B00030 = 08: no acknowledgement
-  at = s.insert(at, {K::expect_write, write16(0xB00030, {0x08})});  // the second attempt, also unanswered
-  s.erase(std::next(at), s.end());
+  // After B00030 = 08 no acknowledgement; the second attempt is not answered either.
+  std::deque<Step> s = init_left_unanswered(kAck16, write16(0xB00030, {0x08}));
   auto hid = std::make_unique<ScriptedHid>(s);
   ScriptedHid& fake = *hid;
   FakeClock clock;
@@ -261,11 +268,7 @@ TEST(WiimoteSession, ARegisterWriteNeverAcknowledgedFailsNamingIt) {
 // The IR enables ask for an acknowledgement and wait for it: one that never
 // comes is sent again, then the connect fails naming the report.
 TEST(WiimoteSession, AnIrEnableNeverAcknowledgedIsSentTwiceThenFails) {
-  std::deque<Step> s;
-  add_init(s);
-  auto at = s.erase(find_step(s, K::reply, ack(0x13)));
-  at = s.insert(at, {K::expect_write, {0x13, 0x06}});  // the remote stays silent twice
-  s.erase(std::next(at), s.end());
+  std::deque<Step> s = init_left_unanswered(ack(0x13), {0x13, 0x06});  // the remote stays silent twice
   auto hid = std::make_unique<ScriptedHid>(s);
   ScriptedHid& fake = *hid;
   FakeClock clock;

@@ -6,6 +6,7 @@
 #include <backends/imgui_impl_opengl3.h>
 #include <zlib.h>
 
+#include "earshot/geometry.hpp"
 #include "keys.hpp"
 
 #include <cmath>
@@ -19,13 +20,13 @@ namespace {
 
 using V3 = std::array<float, 3>;
 
+/// The plugin hands the head's orientation as floats; the maths is common's.
+earshot::Quat quat_of(const std::array<float, 4>& q) { return {q[0], q[1], q[2], q[3]}; }
+
+/// v turned by orientation q, for drawing.
 V3 rotate(const std::array<float, 4>& q, const V3& v) {
-  const V3 u{q[1], q[2], q[3]};
-  auto cross = [](const V3& a, const V3& b) {
-    return V3{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-  };
-  const V3 c1 = cross(u, v), c2 = cross(u, c1);
-  return {v[0] + 2 * (q[0] * c1[0] + c2[0]), v[1] + 2 * (q[0] * c1[1] + c2[1]), v[2] + 2 * (q[0] * c1[2] + c2[2])};
+  const earshot::Vec3 r = earshot::rotate(quat_of(q), {v[0], v[1], v[2]});
+  return {static_cast<float>(r[0]), static_cast<float>(r[1]), static_cast<float>(r[2])};
 }
 
 /// One 2D projection: screen x from axis `ax` (sign sx), screen y from axis `ay` (sign sy).
@@ -183,9 +184,8 @@ void tracker_column(const WindowModel& m) {
   ImGui::TextColored(state_colour(m.tracker_state), "%s", m.tracker_state.c_str());
   ImGui::SameLine();
   ImGui::TextDisabled("(%s)", m.tracker.c_str());
-  const V3 f = rotate(m.head_orientation, {0, 0, -1});
   ImGui::Text("%.0f frames/s   %llu frames   yaw %+.1f deg", double(m.tracker_rate), m.tracker_frames,
-              std::atan2(-f[0], -f[2]) * 180.0 / 3.14159265358979);
+              earshot::ypr_from_quat(quat_of(m.head_orientation)).yaw * 180.0 / 3.14159265358979);
   camera_view(m, 288);
   if (!m.tracker_message.empty() && !m.tracker_alarm) ImGui::TextWrapped("%s", m.tracker_message.c_str());
 }

@@ -28,7 +28,7 @@
 #include "earshot/stop_signals.hpp"
 #include "earshot/tracker/live_pipeline.hpp"
 #include "earshot/tracker/pose_track_csv.hpp"
-#include "earshot/tracker/sim_source.hpp"
+#include "earshot/tracker/source_spec.hpp"
 #include "demo/audio_output.hpp"
 #include "demo/keys.hpp"
 #include "demo/live_demo.hpp"
@@ -76,20 +76,19 @@ struct TrackedHead {
 /// the listener's poses as a Pose track CSV.
 TrackedHead track_to_file(const DemoArgs& a, double duration, const std::filesystem::path& poses) {
   tracker::LiveConfig cfg;
-  std::unique_ptr<tracker::FrameSource> source;
-  if (a.tracker == "sim") {
-    tracker::SimSourceConfig sc;
-    sc.sim.seed = a.seed;
-    sc.pacing = tracker::Pacing::as_fast_as_possible;
-    sc.frames = static_cast<long>(std::ceil(duration * sc.sim.rate_hz)) + 1;
-    source = std::make_unique<tracker::SimSource>(cfg.camera, cfg.model, sc);
-  } else if (a.tracker.rfind("replay:", 0) == 0) {
-    source = std::make_unique<tracker::ReplaySource>(a.tracker.substr(7), tracker::Pacing::as_fast_as_possible);
-  } else {
+  const auto spec = tracker::parse_source_spec(a.tracker, "--tracker");
+  using Kind = tracker::SourceSpec::Kind;
+  if (spec.kind != Kind::sim && spec.kind != Kind::replay)
     throw InputError::at("--tracker", 0, "",
                          "'" + a.tracker + "' cannot run offline (sim or replay:DOTS.csv; live trackers need "
                          "real-time output: see `earshot track live`)");
-  }
+  tracker::SourceOptions so;
+  so.pacing = tracker::Pacing::as_fast_as_possible;
+  so.camera = cfg.camera;
+  so.model = cfg.model;
+  so.sim.sim.seed = a.seed;
+  so.sim.frames = static_cast<long>(std::ceil(duration * so.sim.sim.rate_hz)) + 1;
+  const auto source = tracker::make_frame_source(spec, so);
   tracker::LivePipeline pipeline(cfg);
   pipeline.request_recenter();  // the first pose seen is straight ahead
   std::ofstream out(poses);

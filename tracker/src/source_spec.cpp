@@ -62,7 +62,7 @@ std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const Sou
       return std::make_unique<WiimoteSource>(make_hidapi_transport(), w);
     }
     case SourceSpec::Kind::sim: {
-      SimSourceConfig c;
+      SimSourceConfig c = o.sim;
       c.pacing = o.pacing;
       return std::make_unique<SimSource>(o.camera, o.model.value_or(LedModel::thesis()), c);
     }

@@ -44,6 +44,7 @@ struct SourceOptions {
   Pacing pacing = Pacing::real_time;         ///< sim, replay
   Camera camera = Camera::with_focal(1280.0);  ///< sim
   std::optional<LedModel> model;             ///< sim; default: the thesis beacon
+  SimSourceConfig sim{};                     ///< sim: walk, length, faults (its pacing is `pacing`)
   /// wiimote: no remote yet is a `searching` note instead of an error (for
   /// hosts that play on and show how to pair one).
   bool wait_for_remote = false;

@@ -1,6 +1,7 @@
 // Random poses and frames for the tracker tests (seeded, reproducible).
 #pragma once
 
+#include <cmath>
 #include <random>
 
 #include "earshot/tracker/camera.hpp"
@@ -11,15 +12,25 @@
 namespace earshot::tracker::fixtures {
 
 /// A random beacon pose in front of the camera with every LED inside the
-/// image: any roll (full circle), yaw and pitch within +-40 degrees.
+/// image and shining toward the camera within its beam half-angle (a real
+/// camera sees nothing else): any roll (full circle), yaw and pitch within
+/// +-40 degrees.
 inline Pose random_visible_pose(std::mt19937_64& rng, const Camera& cam, const LedModel& model) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (;;) {
     const double yaw = 0.7 * u(rng), pitch = 0.7 * u(rng), roll = M_PI * u(rng);
     const double z = 900.0 + 600.0 * u(rng);
-    const Pose p{rotation_from_ypr(yaw, pitch, roll), Vec3(0.25 * z * u(rng), 0.2 * z * u(rng), z)};
+    // Draws are sequenced one per statement: the order of function arguments
+    // is unspecified (g++ and clang differ), and the poses must not be.
+    const double x = 0.25 * z * u(rng);
+    const double y = 0.2 * z * u(rng);
+    const Pose p{rotation_from_ypr(yaw, pitch, roll), Vec3(x, y, z)};
     bool ok = true;
-    for (const auto& led : model.leds_mm) ok = ok && cam.inside(cam.project(p.apply(led)));
+    const Vec3 axis = p.R * model.axis;
+    for (const auto& led : model.leds_mm) {
+      const Vec3 P = p.apply(led);
+      ok = ok && cam.inside(cam.project(P)) && axis.dot(-P.normalized()) >= std::cos(model.half_angle);
+    }
     if (ok) return p;
   }
 }

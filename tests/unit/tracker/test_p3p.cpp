@@ -86,11 +86,15 @@ TEST(P3P, ReturnsEveryRealSolution) {
   // depth triples must equal the dense-scan reference's.
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
+  // Braced initialisation draws left to right on every compiler.
+  const auto draw3 = [&] { return Vec3{u(rng), u(rng), u(rng)}; };
   int with_four = 0, compared = 0;
   for (int i = 0; i < 300; ++i) {
     std::array<Vec3, 3> x, y;
-    const Pose truth{exp_so3(Vec3(u(rng), u(rng), u(rng)) * 2.0), Vec3(u(rng), u(rng), 4.0 + u(rng))};
-    for (auto& p : x) p = Vec3(u(rng), u(rng), u(rng));
+    const Vec3 w = draw3();
+    const Vec3 t = draw3() + Vec3(0.0, 0.0, 4.0);
+    const Pose truth{exp_so3(w * 2.0), t};
+    for (auto& p : x) p = draw3();
     for (size_t k = 0; k < 3; ++k) y[k] = truth.apply(x[k]).normalized();
     const auto ref = reference_depths(y, x);
     const auto sols = p3p_lambda_twist(y, x);

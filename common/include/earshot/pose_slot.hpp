@@ -6,7 +6,11 @@
 // stores the pose's words, makes it even again; a reader copies the words
 // and keeps the copy only if the sequence was even and unchanged around it,
 // so a pose is never torn. Every access is atomic, so the slot is free of
-// data races by the C++ memory model (ThreadSanitizer agrees). A reader
+// data races by the C++ memory model. The ordering comes from release
+// stores and acquire loads of the words themselves rather than from fences
+// (Boehm's seqlock without fences): a reader that sees any new word also sees
+// the odd sequence that preceded it. On x86 these are plain moves, and
+// ThreadSanitizer models them (it does not model fences). A reader
 // retries only while a write is in flight (a few dozen nanoseconds at a
 // 1 kHz write rate); `try_load` never retries, for callers that must not.
 // A non-finite pose is refused at `publish`: bad numbers stop at the edge.
@@ -36,8 +40,7 @@ class PoseSlot {
     const std::uint64_t s = seq_.load(std::memory_order_relaxed);
     p.sequence = s / 2 + 1;
     seq_.store(s + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    store_words(p);
+    store_words(p);  // release: orders the odd sequence before each word
     seq_.store(s + 2, std::memory_order_release);
     return true;
   }
@@ -53,8 +56,8 @@ class PoseSlot {
     const std::uint64_t s1 = seq_.load(std::memory_order_acquire);
     if (s1 & 1u) return std::nullopt;
     std::array<std::uint64_t, kWords> w;
-    for (std::size_t i = 0; i < kWords; ++i) w[i] = words_[i].load(std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_acquire);
+    // acquire: a word from a newer write makes its odd sequence visible below.
+    for (std::size_t i = 0; i < kWords; ++i) w[i] = words_[i].load(std::memory_order_acquire);
     if (seq_.load(std::memory_order_relaxed) != s1) return std::nullopt;
     HeadPose p;
     std::memcpy(static_cast<void*>(&p), w.data(), sizeof(HeadPose));  // HeadPose is trivially copyable
@@ -68,7 +71,7 @@ class PoseSlot {
   void store_words(const HeadPose& p) {
     std::array<std::uint64_t, kWords> w{};
     std::memcpy(w.data(), &p, sizeof(HeadPose));
-    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(w[i], std::memory_order_relaxed);
+    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(w[i], std::memory_order_release);
   }
 
   alignas(64) std::atomic<std::uint64_t> seq_{0};

@@ -3,4 +3,11 @@ if(EARSHOT_SANITIZE)
   message(STATUS "earshot: sanitizers ${EARSHOT_SANITIZE}")
   add_compile_options(-fsanitize=${EARSHOT_SANITIZE} -fno-omit-frame-pointer -fno-sanitize-recover=all)
   add_link_options(-fsanitize=${EARSHOT_SANITIZE})
+  # clang puts the sanitizer runtime into executables only, and for a C
+  # executable leaves out its C++ half (UBSan's vptr checks). The C hosts
+  # dlopen the C++ library, which needs that half: link it in (with the C++
+  # runtime library it is written against).
+  if(CMAKE_C_COMPILER_ID STREQUAL "Clang" AND EARSHOT_SANITIZE MATCHES "undefined")
+    add_link_options($<$<LINK_LANGUAGE:C>:-fsanitize-link-c++-runtime> $<$<LINK_LANGUAGE:C>:-lstdc++>)
+  endif()
 endif()

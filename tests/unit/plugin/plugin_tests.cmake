@@ -34,7 +34,7 @@ add_test(NAME plugin_bridge_exports
 set_tests_properties(plugin_exports plugin_bridge_exports PROPERTIES LABELS "unit;plugin")
 
 # The API linked: ABI, deferred mode, sources, misuse, control and audio
-# threads together (label threads: CI runs it under TSan too), no allocation
+# threads together (CI runs these under TSan too), no allocation
 # in esRender, head poses.
 # test_tracker_state also compiles the library's status mapping
 # (plugin/src/tracker_state.cpp) to map a scripted Wii Remote session.
@@ -42,7 +42,9 @@ earshot_unit_test(plugin_tests
   SOURCES plugin/test_plugin.cpp plugin/test_tracker_state.cpp audio/alloc_counter.cpp
     ${PROJECT_SOURCE_DIR}/plugin/src/tracker_state.cpp
   LIBS earshot_plugin earshot::tracker earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
-  EXTRA_LABELS threads)
+  # Misuse from other threads, control and audio threads together, the live
+  # tracker thread behind a world (single-threaded API tests run once).
+  THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*")
 target_include_directories(plugin_tests PRIVATE ${PROJECT_SOURCE_DIR}/plugin/src)
 
 # The OpenAL Soft bridge on the loopback device with HRTF.

@@ -47,6 +47,8 @@ class SphereTriangulation {
   };
   [[nodiscard]] bool weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const;
   [[nodiscard]] std::size_t cell_of(const Vec3& d) const;
+  [[nodiscard]] static std::vector<std::vector<std::uint32_t>> triangles_near_cells(
+      const std::vector<Triangle>& tris, std::span<const Vec3> dirs);
 
   std::vector<Triangle> tris_;
   // Acceleration grid over azimuth x elevation: candidate triangles per cell.

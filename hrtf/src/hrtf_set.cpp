@@ -1,4 +1,6 @@
 #include "earshot/hrtf/hrtf_set.hpp"
+#include "earshot/hrtf/ir_resampler.hpp"
+#include "dot.hpp"
 
 #include <mysofa.h>
 
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <unordered_map>
 
 #include "earshot/errors.hpp"
 #include "earshot/windowed_sinc.hpp"
@@ -66,27 +69,38 @@ double onset_of(std::span<const float> h) {
 }
 
 /// out[i] = h(i + shift): h read `shift` samples later, band-limited (a
-/// Kaiser-windowed sinc of 64 taps; samples beyond h are zero). Load time only.
+/// Kaiser-windowed sinc of 64 taps, unit DC gain; samples beyond h are
+/// zero). Load time only.
 void shift_earlier(std::span<const float> h, double shift, std::span<float> out) {
   constexpr int kHalf = 32;
   constexpr double kBeta = 8.0;
   const double whole = std::floor(shift), frac = shift - whole;
-  std::array<double, 2 * kHalf> taps{};
+  static const KaiserSinc kernel(kHalf, kBeta);  // immutable once built
+  std::array<double, 2 * kHalf> exact{};  // tap t weighs h[i + whole + t - kHalf + 1]
   double sum = 0.0;
-  for (int j = -kHalf + 1; j <= kHalf; ++j) {  // tap j weighs h[i + whole + j]
-    taps[static_cast<std::size_t>(j + kHalf - 1)] =
-        frac == 0.0 ? (j == 0 ? 1.0 : 0.0) : kaiser_sinc(static_cast<double>(j) - frac, kHalf, kBeta);
-    sum += taps[static_cast<std::size_t>(j + kHalf - 1)];
+  for (int j = -kHalf + 1; j <= kHalf; ++j) {
+    exact[static_cast<std::size_t>(j + kHalf - 1)] =
+        frac == 0.0 ? (j == 0 ? 1.0 : 0.0) : kernel(static_cast<double>(j) - frac);
+    sum += exact[static_cast<std::size_t>(j + kHalf - 1)];
   }
+  std::array<float, 2 * kHalf> taps{};
+  for (std::size_t t = 0; t < taps.size(); ++t) taps[t] = static_cast<float>(exact[t] / sum);
   const auto n = static_cast<long>(h.size());
   for (std::size_t i = 0; i < out.size(); ++i) {
-    double acc = 0.0;
-    for (int j = -kHalf + 1; j <= kHalf; ++j) {
-      const long k = static_cast<long>(i) + static_cast<long>(whole) + j;
-      if (k >= 0 && k < n) acc += taps[static_cast<std::size_t>(j + kHalf - 1)] * h[static_cast<std::size_t>(k)];
-    }
-    out[i] = static_cast<float>(acc / sum);
+    const long k0 = static_cast<long>(i) + static_cast<long>(whole) - kHalf + 1;  // h index of tap 0
+    const long lo = std::max(0L, -k0), hi = std::min(static_cast<long>(taps.size()), n - k0);
+    out[i] = hi > lo ? detail::dot(taps.data() + lo, h.data() + (k0 + lo), static_cast<std::size_t>(hi - lo)) : 0.0f;
   }
+}
+
+/// Sum of a[i] b[i] in double, four partial sums (independent adds pipeline).
+double inner_product(std::span<const float> a, std::span<const float> b) {
+  std::array<double, 4> acc{};
+  std::size_t i = 0;
+  for (; i + 4 <= a.size(); i += 4)
+    for (std::size_t k = 0; k < 4; ++k) acc[k] += double(a[i + k]) * b[i + k];
+  for (; i < a.size(); ++i) acc[0] += double(a[i]) * b[i];
+  return (acc[0] + acc[1]) + (acc[2] + acc[3]);
 }
 
 }  // namespace
@@ -145,18 +159,29 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   const double file_rate = h->DataSamplingRate.values[0];
   if (!(file_rate >= 8000.0 && file_rate <= 192000.0))
     bad(path, "unsupported sampling rate " + std::to_string(file_rate) + " Hz in the file");
-  if (std::abs(file_rate - sample_rate) > 0.5) {
-    if ((err = mysofa_resample(h, static_cast<float>(sample_rate))) != MYSOFA_OK) bad(path, mysofa_error_text(err));
-  }
   mysofa_tocartesian(h);
 
   HrtfSet set;
   set.rate_ = sample_rate;
-  set.length_ = h->N;
-  const std::size_t M = h->M, N = h->N;
-  set.hrirs_.assign(h->DataIR.values, h->DataIR.values + 2 * M * N);
-  for (float v : set.hrirs_)
-    if (!std::isfinite(v)) bad(path, "impulse responses hold non-finite samples");
+  const std::size_t M = h->M;
+  for (std::size_t i = 0; i < 2 * M * h->N; ++i)
+    if (!std::isfinite(h->DataIR.values[i])) bad(path, "impulse responses hold non-finite samples");
+  if (std::abs(file_rate - sample_rate) > 0.5) {
+    // Our own resampler rather than mysofa_resample: one kernel per output
+    // sample serves every response (a fifth of the time), and Data.Delay is
+    // left in the file's samples, rescaled once below (mysofa_resample
+    // rescales it too, so it was scaled twice).
+    const IrResampler rs(file_rate, sample_rate, h->N);
+    set.hrirs_.assign(2 * M * rs.out_length(), 0.0f);
+    for (std::size_t i = 0; i < 2 * M; ++i)
+      rs.process(std::span<const float>(h->DataIR.values + i * h->N, h->N),
+                 std::span<float>(set.hrirs_.data() + i * rs.out_length(), rs.out_length()));
+    set.length_ = rs.out_length();
+  } else {
+    set.hrirs_.assign(h->DataIR.values, h->DataIR.values + 2 * M * h->N);
+    set.length_ = h->N;
+  }
+  const std::size_t N = set.length_;
   set.filters_.assign(2 * M * N, 0.0f);
   set.dirs_.resize(M);
   {
@@ -224,18 +249,25 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
   }
   const SphereTriangulation& tri = *set.triangulation_;
+  // Each pair of measurements (a vertex with itself, or an edge shared by two
+  // triangles) is multiplied out once.
+  std::unordered_map<std::uint64_t, std::array<double, 2>> pair_dots;
+  const auto pair_dot = [&](std::uint32_t i, std::uint32_t j) {
+    const std::uint64_t key = (std::uint64_t{std::min(i, j)} << 32) | std::max(i, j);
+    auto [it, fresh] = pair_dots.try_emplace(key);
+    if (fresh)
+      for (std::size_t ear = 0; ear < 2; ++ear)
+        it->second[ear] = inner_product(set.filter(i, static_cast<Ear>(ear)), set.filter(j, static_cast<Ear>(ear)));
+    return it->second;
+  };
   set.gram_.resize(tri.triangle_count());
   for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
     const auto v = tri.vertices(t);
     constexpr std::array<std::array<int, 2>, 6> kPairs{{{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
-    for (std::size_t ear = 0; ear < 2; ++ear)
-      for (std::size_t k = 0; k < 6; ++k) {
-        const auto a = set.filter(v[kPairs[k][0]], static_cast<Ear>(ear));
-        const auto b = set.filter(v[kPairs[k][1]], static_cast<Ear>(ear));
-        double dot = 0.0;
-        for (std::size_t i = 0; i < a.size(); ++i) dot += double(a[i]) * b[i];
-        set.gram_[t][ear][k] = dot;
-      }
+    for (std::size_t k = 0; k < 6; ++k) {
+      const auto d = pair_dot(v[kPairs[k][0]], v[kPairs[k][1]]);
+      for (std::size_t ear = 0; ear < 2; ++ear) set.gram_[t][ear][k] = d[ear];
+    }
   }
   return set;
 }

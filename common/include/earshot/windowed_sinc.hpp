@@ -15,4 +15,15 @@ namespace earshot {
 /// scale their taps to unit DC gain.
 [[nodiscard]] double kaiser_sinc(double x, double half_width, double beta);
 
+/// The same kernel with the window's normalisation computed once: for
+/// callers that evaluate many taps of one shape (load-time FIR design).
+class KaiserSinc {
+ public:
+  KaiserSinc(double half_width, double beta);
+  [[nodiscard]] double operator()(double x) const;
+
+ private:
+  double half_width_, beta_, i0_beta_;
+};
+
 }  // namespace earshot

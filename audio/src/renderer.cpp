@@ -66,15 +66,22 @@ struct Renderer::Voice {
 };
 
 Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg)
-    : hrtf_(std::move(hrtf)), cfg_(cfg) {
+    : Renderer(PreparedHrtf{hrtf, hrtf && cfg.block > 0 ? std::make_shared<const HrtfSpectra>(*hrtf, cfg.block)
+                                                         : nullptr},
+               cfg) {}
+
+Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.set), cfg_(cfg) {
   if (!hrtf_) throw std::invalid_argument("Renderer: no HRTF set");
   if (cfg_.block == 0) throw std::invalid_argument("Renderer: block must be > 0");
+  if (!hrtf.spectra || hrtf.spectra->block() != cfg_.block ||
+      hrtf.spectra->measurements() != hrtf_->measurement_count())
+    throw std::invalid_argument("Renderer: the HRTF spectra are not for this set and block");
   if (std::abs(hrtf_->sample_rate() - cfg_.sample_rate) > 0.5)
     throw std::invalid_argument("Renderer: HRTF set is not at the render rate");
   const double max_delay =
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
-  bank_ = std::make_unique<DirectionBank>(std::make_shared<const HrtfSpectra>(*hrtf_, cfg_.block));
+  bank_ = std::make_unique<DirectionBank>(hrtf.spectra);
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
     voices_.push_back(std::make_unique<Voice>(cfg_.block, max_delay, cfg_.sample_rate));

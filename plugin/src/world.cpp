@@ -25,12 +25,14 @@ constexpr unsigned index_of(ESenum s) {
 }  // namespace
 
 World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thread::get_id()) {
-  std::shared_ptr<const hrtf::HrtfSet> set;
+  // The set's prepared data is shared with every other world of the
+  // process that uses the same file, rate and block (audio/hrtf_cache.hpp).
+  audio::PreparedHrtf hrtf;
   try {
-    auto loaded = hrtf::HrtfSet::load(p.hrtf_path ? p.hrtf_path : hrtf::HrtfSet::kDefaultPath,
-                                      static_cast<double>(p.sample_rate));
-    if (p.head_radius_m > 0.0f) loaded.set_parametric_itd(static_cast<double>(p.head_radius_m));
-    set = std::make_shared<const hrtf::HrtfSet>(std::move(loaded));
+    std::optional<double> radius;
+    if (p.head_radius_m > 0.0f) radius = static_cast<double>(p.head_radius_m);
+    hrtf = audio::HrtfCache::shared().get(p.hrtf_path ? p.hrtf_path : hrtf::HrtfSet::kDefaultPath,
+                                          static_cast<double>(p.sample_rate), p.block_size, radius);
   } catch (const std::exception& e) {
     throw Failure{ES_HRTF_ERROR, e.what()};
   }
@@ -40,7 +42,7 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   cfg.max_sources = p.max_sources;
   cfg.speed_of_sound = p.speed_of_sound;
   cfg.doppler_factor = propagation_delay() ? p.doppler_factor : 0.0;
-  renderer_ = std::make_unique<audio::Renderer>(set, cfg);
+  renderer_ = std::make_unique<audio::Renderer>(hrtf, cfg);
   const audio::LateReverbType late =
       p.late_reverb == ES_REVERB_SCHROEDER ? audio::LateReverbType::schroeder : audio::LateReverbType::fdn;
   control_.room = audio::room_preset("generic");

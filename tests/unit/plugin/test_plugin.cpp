@@ -549,6 +549,37 @@ TEST(PluginThreads, ControlAndAudioThreadsTogether) {
   EXPECT_EQ(esDestroyWorld(w), ES_OK);
 }
 
+// Worlds share one prepared HRTF set (audio/hrtf_cache.hpp). Four worlds,
+// each made and driven by its own thread at once, with the same sources and
+// the same moves, must render the same samples as one world alone: shared
+// data that any of them wrote to would show here (and TSan would see it).
+TEST(PluginThreads, WorldsSharingTheHrtfRenderAtOnceAsOneAlone) {
+  constexpr int kBlocks = 120;
+  const auto run = [](std::vector<float>& l, std::vector<float>& r) {
+    TestWorld t;
+    std::array<float, kBlock> bl{}, br{};
+    for (int i = 0; i < kBlocks; ++i) {
+      const float a = 0.05f * static_cast<float>(i);
+      EXPECT_EQ(esSource3f(t.w, t.src, ES_POSITION, 2.0f * std::sin(a), 0.3f, -2.0f * std::cos(a)), ES_OK);
+      ASSERT_EQ(esRender(t.w, bl.data(), br.data(), kBlock), ES_OK);
+      l.insert(l.end(), bl.begin(), bl.end());
+      r.insert(r.end(), br.begin(), br.end());
+    }
+  };
+  std::vector<float> l1, r1;
+  run(l1, r1);
+  constexpr int kWorlds = 4;
+  std::array<std::vector<float>, kWorlds> ls, rs;
+  std::vector<std::thread> threads;
+  for (int k = 0; k < kWorlds; ++k)
+    threads.emplace_back([&, k] { run(ls[static_cast<std::size_t>(k)], rs[static_cast<std::size_t>(k)]); });
+  for (auto& t : threads) t.join();
+  for (int k = 0; k < kWorlds; ++k) {
+    EXPECT_EQ(first_difference(ls[static_cast<std::size_t>(k)], l1), std::numeric_limits<std::size_t>::max()) << k;
+    EXPECT_EQ(first_difference(rs[static_cast<std::size_t>(k)], r1), std::numeric_limits<std::size_t>::max()) << k;
+  }
+}
+
 // ---- real time ----
 
 TEST(PluginRealtime, RenderTakesNoAllocationOrLock) {

@@ -31,6 +31,7 @@
 #include "earshot/audio/direction_bank.hpp"
 #include "earshot/audio/distance_model.hpp"
 #include "earshot/audio/fractional_delay.hpp"
+#include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -76,7 +77,11 @@ struct HeadRelative {
 
 class Renderer {
  public:
+  /// Prepares the set's spectra for cfg.block itself.
   Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg);
+  /// Uses prepared data (e.g. from HrtfCache), shared with other renderers:
+  /// its spectra must be for cfg.block.
+  Renderer(const PreparedHrtf& hrtf, RendererConfig cfg);
   ~Renderer();
 
   /// Adds a source; returns its index, or -1 when max_sources are in use.

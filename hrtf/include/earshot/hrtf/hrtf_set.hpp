@@ -5,8 +5,12 @@
 //
 // Onset split: an ear's onset is where it first reaches -20 dB of that
 // HRIR's peak, interpolated between samples; the filter is the HRIR read
-// from two samples before that (band-limited, so a fractional shift) and the
-// delay is that shift. Rendering filter(ear) delayed by delay(ear) therefore
+// from a margin before that (band-limited, so a fractional shift) and the
+// delay is that shift. The margin is one for the whole set (every filter has
+// its onset at the same place) and covers what any response holds before its
+// onset down to -60 dB of its energy (band-limited measurements ring ahead of
+// the onset; KEMAR about 20 samples), so the filters are that much longer
+// than the responses and nothing is cut at either end. Rendering filter(ear) delayed by delay(ear) therefore
 // gives back the measured HRIR, so measured ITD and ILD are kept (to 0.1 us
 // and 0.04 dB, measured on rendered noise). The shift common to all measurements (the measurement rig's
 // flight time) is removed from every delay: it is latency, not a cue.
@@ -89,6 +93,8 @@ class HrtfSet {
   [[nodiscard]] static HrtfSet load_default(double sample_rate) { return load(kDefaultPath, sample_rate); }
 
   [[nodiscard]] double sample_rate() const { return rate_; }
+  /// Taps of every onset-free filter: the responses' length plus room for
+  /// the margin kept before the earliest onset.
   [[nodiscard]] std::size_t filter_length() const { return length_; }
   [[nodiscard]] std::size_t measurement_count() const { return dirs_.size(); }
   [[nodiscard]] Direction direction(std::size_t i) const { return dirs_[i]; }
@@ -123,7 +129,8 @@ class HrtfSet {
   HrtfSet() = default;
 
   double rate_ = 0.0;
-  std::size_t length_ = 0;
+  std::size_t length_ = 0;       // of the filters
+  std::size_t hrir_length_ = 0;  // of the measured responses (the filters may be longer)
   std::vector<Direction> dirs_;
   std::vector<float> filters_;  // [measurement][ear][sample]
   std::vector<float> hrirs_;    // [measurement][ear][sample], as measured

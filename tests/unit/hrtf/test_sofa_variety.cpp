@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ struct Case {
   const char* args;
   double render_rate;
 };
+
+// Test names and failure messages show the kind, not the struct's bytes.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 
 struct SofaDeleter {
   void operator()(MYSOFA_HRTF* h) const { mysofa_free(h); }

@@ -169,6 +169,15 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (h->R != 2) bad(path, "expected 2 receivers (ears), found " + std::to_string(h->R));
   if (h->M < 4 || h->N == 0) bad(path, "too few measurements or empty impulse responses");
   if (h->DataSamplingRate.elements < 1) bad(path, "no Data.SamplingRate");
+  // libmysofa checks the attributes, not that each array holds what the
+  // dimensions say (found by fuzz_sofa: a Data.IR of one value for M x R x N).
+  const auto holds = [](const MYSOFA_ARRAY& a, std::size_t n) { return a.values && a.elements == n; };
+  if (!holds(h->DataIR, std::size_t{h->M} * h->R * h->N))
+    bad(path, "Data.IR holds " + std::to_string(h->DataIR.elements) + " values, not M x R x N = " +
+                  std::to_string(std::size_t{h->M} * h->R * h->N));
+  if (!holds(h->SourcePosition, std::size_t{h->M} * 3))
+    bad(path, "SourcePosition holds " + std::to_string(h->SourcePosition.elements) + " values, not M x 3 = " +
+                  std::to_string(std::size_t{h->M} * 3));
   const double file_rate = h->DataSamplingRate.values[0];
   if (!(file_rate >= 8000.0 && file_rate <= 192000.0))
     bad(path, "unsupported sampling rate " + std::to_string(file_rate) + " Hz in the file");

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstddef>
+#include <span>
 
 namespace earshot::hrtf::detail {
 
@@ -17,6 +18,17 @@ inline float dot(const float* a, const float* b, std::size_t n) {
   float tail = 0.0f;
   for (; i < n; ++i) tail += a[i] * b[i];
   return ((acc[0] + acc[4]) + (acc[1] + acc[5])) + ((acc[2] + acc[6]) + (acc[3] + acc[7])) + tail;
+}
+
+/// The same in double (energies and Gram entries, where float sums drift),
+/// four partial sums.
+inline double dot_double(std::span<const float> a, std::span<const float> b) {
+  std::array<double, 4> acc{};
+  std::size_t i = 0;
+  for (; i + 4 <= a.size(); i += 4)
+    for (std::size_t k = 0; k < 4; ++k) acc[k] += double(a[i + k]) * b[i + k];
+  for (; i < a.size(); ++i) acc[0] += double(a[i]) * b[i];
+  return (acc[0] + acc[1]) + (acc[2] + acc[3]);
 }
 
 }  // namespace earshot::hrtf::detail

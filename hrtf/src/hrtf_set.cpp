@@ -106,16 +106,6 @@ void shift_earlier(std::span<const float> h, double shift, std::span<float> out)
   }
 }
 
-/// Sum of a[i] b[i] in double, four partial sums (independent adds pipeline).
-double inner_product(std::span<const float> a, std::span<const float> b) {
-  std::array<double, 4> acc{};
-  std::size_t i = 0;
-  for (; i + 4 <= a.size(); i += 4)
-    for (std::size_t k = 0; k < 4; ++k) acc[k] += double(a[i + k]) * b[i + k];
-  for (; i < a.size(); ++i) acc[0] += double(a[i]) * b[i];
-  return (acc[0] + acc[1]) + (acc[2] + acc[3]);
-}
-
 }  // namespace
 
 double head_radius_m(HeadSize s) {
@@ -298,7 +288,7 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     auto [it, fresh] = pair_dots.try_emplace(key);
     if (fresh)
       for (std::size_t ear = 0; ear < 2; ++ear)
-        it->second[ear] = inner_product(set.filter(i, static_cast<Ear>(ear)), set.filter(j, static_cast<Ear>(ear)));
+        it->second[ear] = detail::dot_double(set.filter(i, static_cast<Ear>(ear)), set.filter(j, static_cast<Ear>(ear)));
     return it->second;
   };
   set.gram_.resize(tri.triangle_count());

@@ -27,6 +27,11 @@ packages=(
   jackd2 libjack-jackd2-dev  # JACK: the demo's end-to-end test plays through its dummy driver (no sound card)
   libimgui-dev libglfw3-dev libgl-dev   # the demo's window (Dear ImGui over GLFW + OpenGL)
   xvfb xauth             # the demo window's test and screenshot without a display
+  lv2-dev                # the LV2 plugin's headers and the turtle validator lv2_validate
+  sordi                  # sord_validate, which lv2_validate runs
+  lilv-utils jalv        # real LV2 hosts in the tests: lv2apply, lv2bench, jalv on JACK
+  liblo-tools            # oscsend: an outside OSC sender in the pose-input tests
+  python3-pyglet mpg123 gstreamer1.0-tools gstreamer1.0-plugins-bad   # unmodified OpenAL programs for earshot-openal-run's tests
 )
 
 missing=()

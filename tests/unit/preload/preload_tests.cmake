@@ -1,0 +1,37 @@
+# earshot-openal-run with real OpenAL programs from Debian (pyglet, gstreamer's
+# openalsink, mpg123 -o openal), OpenAL Soft's wave backend capturing what
+# they play (tests/unit/preload/openal_run_check.py; docs/OPENAL_RUN.md).
+# Included from tests/unit/CMakeLists.txt.
+#
+# Not under sanitizers: the shim is preloaded into uninstrumented programs
+# (python3, gst-launch-1.0), where an instrumented library cannot load.
+if(EARSHOT_SANITIZE)
+  return()
+endif()
+set(preload_dir ${CMAKE_CURRENT_SOURCE_DIR}/preload)
+set(preload_check /usr/bin/python3 ${preload_dir}/openal_run_check.py
+    --launcher $<TARGET_FILE:earshot-openal-run> --pyglet-script ${preload_dir}/pyglet_sources.py)
+
+# The launcher's command line: help with an example, 127 for a missing
+# program, 2 for a bad tracker spec, the program's own exit code passed on.
+add_test(NAME preload_launcher_cli
+  COMMAND ${CMAKE_COMMAND} -DLAUNCHER=$<TARGET_FILE:earshot-openal-run> -P ${preload_dir}/launcher_cli.cmake)
+
+# Quick: gstreamer's openalsink (a stereo stream) and a pyglet program (a
+# mono source ahead, which also reads its listener back), without the shim
+# and with the head turned 60 degrees left.
+add_test(NAME preload_gst_turn
+  COMMAND ${preload_check} --program gst --conditions none,60 --port 19241 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_gst_turn)
+add_test(NAME preload_pyglet_turn
+  COMMAND ${preload_check} --program pyglet --conditions none,60 --port 19242 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_pyglet_turn)
+set_tests_properties(preload_launcher_cli preload_gst_turn preload_pyglet_turn PROPERTIES LABELS "unit;preload" TIMEOUT 60)
+
+# Every program at head yaw 0, +60 and -60 against its no-shim baseline
+# (about 10 s each: four runs in real time).
+add_test(NAME preload_pyglet_yaws
+  COMMAND ${preload_check} --program pyglet --port 19251 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_pyglet_yaws)
+add_test(NAME preload_gst_yaws
+  COMMAND ${preload_check} --program gst --port 19252 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_gst_yaws)
+add_test(NAME preload_mpg123_yaws
+  COMMAND ${preload_check} --program mpg123 --port 19253 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_mpg123_yaws)
+set_tests_properties(preload_pyglet_yaws preload_gst_yaws preload_mpg123_yaws PROPERTIES LABELS "slow;preload" TIMEOUT 180)

@@ -1,0 +1,489 @@
+// earshot.lv2: the LV2 face of BinauralPanner (binaural_panner.hpp) and of
+// the process's shared head trackers (shared_tracker.hpp).
+//
+// Threads, as LV2 defines them:
+//   - instantiate / restore / cleanup (instantiation class): may allocate,
+//     load the SOFA file, start and join trackers.
+//   - run (audio class): reads the ports and the control sequence, reads
+//     the tracker's PoseSlot, renders. Never allocates, locks, logs or does
+//     I/O (tests/unit/lv2 proves it). Anything slow is a job for the worker.
+//   - work (the host's worker thread): loads SOFA sets (through the
+//     process's HrtfCache), builds the panner that uses them, starts and
+//     drops tracker leases, frees what the audio thread let go of.
+//   - work_response (audio class again): adopts what the worker built.
+// Ownership crosses threads as pointers inside worker messages; each side
+// adopts them into unique_ptrs at once, so nothing is ever freed in run().
+#include <lv2/atom/forge.h>
+#include <lv2/atom/util.h>
+#include <lv2/core/lv2.h>
+#include <lv2/log/log.h>
+#include <lv2/log/logger.h>
+#include <lv2/state/state.h>
+#include <lv2/worker/worker.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <memory>
+#include <numbers>
+#include <string>
+
+#include "binaural_panner.hpp"
+#include "earshot/audio/hrtf_cache.hpp"
+#include "earshot/audio/room_presets.hpp"
+#include "earshot/hrtf/hrtf_set.hpp"
+#include "shared_tracker.hpp"
+#include "uris.hpp"
+
+namespace earshot::lv2 {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+/// Port indices: the same numbers as lv2:index in lv2/ttl/earshot.ttl.in.
+enum Port : std::uint32_t {
+  kIn = 0,
+  kOutLeft,
+  kOutRight,
+  kControl,  // atom:Sequence of patch:Set / patch:Get (optional)
+  kNotify,   // atom:Sequence out (optional)
+  kAzimuth,
+  kElevation,
+  kDistance,
+  kGain,
+  kDistanceModel,
+  kRoom,
+  kReverbSend,
+  kTracking,
+  kTrackerSource,
+  kRecenter,
+  kYawOffset,
+  kPitchOffset,
+  kRollOffset,
+  kLatency,
+  kHeadYaw,
+  kHeadPitch,
+  kHeadRoll,
+  kPortCount
+};
+
+/// The tracker_source port's choices, in the order of its scale points.
+constexpr std::array<const char*, 4> kTrackerSources{"wiimote", "sim", "opentrack", "osc"};
+
+/// Longest path or spec a message carries (the rest is refused, not cut).
+constexpr std::size_t kMaxText = 4096;
+
+enum class Job : std::uint32_t { load_hrtf, start_tracker, drop_tracker, free_panner };
+
+/// A worker message: a job, a pointer handed over with it, and a text.
+struct Message {
+  Job job;
+  void* object;  // free_panner: a BinauralPanner*; drop_tracker: a LeaseHolder*
+  char text[kMaxText];
+};
+
+/// What the audio thread holds of a shared tracker (the shared_ptr itself
+/// lives on the heap, so handing it back to the worker frees nothing here).
+struct LeaseHolder {
+  std::shared_ptr<TrackerLease> lease;
+};
+
+/// The worker's answer: a new panner or tracker lease (or none, on failure).
+struct Reply {
+  Job job;
+  void* object;
+};
+
+class Plugin {
+ public:
+  Plugin(double rate, const LV2_Feature* const* features) : rate_(rate) {
+    const LV2_URID_Map* map = nullptr;
+    for (int i = 0; features && features[i]; ++i) {
+      const std::string_view uri = features[i]->URI;
+      if (uri == LV2_URID__map) map = static_cast<const LV2_URID_Map*>(features[i]->data);
+      if (uri == LV2_WORKER__schedule) schedule_ = static_cast<LV2_Worker_Schedule*>(features[i]->data);
+      if (uri == LV2_LOG__log) log_ = static_cast<LV2_Log_Log*>(features[i]->data);
+    }
+    uris_ = Uris(map);
+    map_ = map;
+    lv2_log_logger_init(&logger_, const_cast<LV2_URID_Map*>(map), log_);
+    if (map) lv2_atom_forge_init(&forge_, const_cast<LV2_URID_Map*>(map));
+    panner_ = build_panner(hrtf::HrtfSet::kDefaultPath);  // throws: instantiate fails, the host says so
+  }
+
+  ~Plugin() = default;  // the panner and the lease holder go with the instance (instantiation class)
+
+  void connect(std::uint32_t port, void* data) {
+    if (port < kPortCount) ports_[port] = data;
+  }
+
+  void activate() {
+    panner_->reset();
+  }
+
+  void run(std::uint32_t frames) {
+    read_control_events();
+    request_tracker();
+    if (holder_) {
+      const bool recenter = control(kRecenter) > 0.5f;
+      if (recenter && !recenter_was_) holder_->lease->tracker->recenter();
+      recenter_was_ = recenter;
+      if (auto p = holder_->lease->slot.try_load()) tracked_ = *p;
+    } else {
+      tracked_ = HeadPose{};
+    }
+
+    PannerParams p;
+    p.azimuth_deg = control(kAzimuth);
+    p.elevation_deg = std::clamp(static_cast<double>(control(kElevation)), -90.0, 90.0);
+    p.distance_m = std::clamp(static_cast<double>(control(kDistance)), 0.05, 1000.0);
+    p.gain_db = std::clamp(static_cast<double>(control(kGain)), -120.0, 24.0);
+    const int model = static_cast<int>(std::lround(control(kDistanceModel)));
+    p.distance_model = static_cast<audio::DistanceModel>(std::clamp(model, 0, 6));
+    p.room = static_cast<int>(std::lround(control(kRoom)));
+    p.reverb_send_db = control(kReverbSend);
+    // The offsets are the listener's own orientation in the room; the
+    // tracked head turns on top of it (as the C API's listener and tracker).
+    const Quat offset =
+        quat_from_ypr(control(kYawOffset) * kDeg, control(kPitchOffset) * kDeg, control(kRollOffset) * kDeg);
+    p.head_orientation = multiply(offset, tracked_.orientation);
+    p.head_position = rotate(offset, tracked_.position);
+    if (!tracked_.finite()) {
+      p.head_orientation = offset;
+      p.head_position = {0, 0, 0};
+    }
+    panner_->update(p);
+
+    const auto* in = static_cast<const float*>(ports_[kIn]);
+    auto* left = static_cast<float*>(ports_[kOutLeft]);
+    auto* right = static_cast<float*>(ports_[kOutRight]);
+    if (in && left && right) panner_->process(in, left, right, frames);
+
+    const YawPitchRoll head = ypr_from_quat(p.head_orientation);
+    set_output(kLatency, static_cast<float>(panner_->latency()));
+    set_output(kHeadYaw, static_cast<float>(head.yaw / kDeg));
+    set_output(kHeadPitch, static_cast<float>(head.pitch / kDeg));
+    set_output(kHeadRoll, static_cast<float>(head.roll / kDeg));
+    write_notifications();
+  }
+
+  // ---- worker (the host's worker thread) ----
+  LV2_Worker_Status work(LV2_Worker_Respond_Function respond, LV2_Worker_Respond_Handle handle, std::uint32_t size,
+                         const void* data) {
+    if (size < offsetof(Message, text)) return LV2_WORKER_ERR_UNKNOWN;
+    Message m{};
+    std::memcpy(&m, data, std::min<std::size_t>(size, sizeof m));
+    m.text[kMaxText - 1] = '\0';
+    Reply r{m.job, nullptr};
+    switch (m.job) {
+      case Job::free_panner: std::unique_ptr<BinauralPanner>(static_cast<BinauralPanner*>(m.object)); return LV2_WORKER_SUCCESS;
+      case Job::drop_tracker: std::unique_ptr<LeaseHolder>(static_cast<LeaseHolder*>(m.object)); return LV2_WORKER_SUCCESS;
+      case Job::load_hrtf:
+        try {
+          r.object = build_panner(m.text).release();
+        } catch (const std::exception& e) {
+          lv2_log_error(&logger_, "earshot.lv2: cannot use HRTF set %s: %s (keeping %s)\n", m.text, e.what(),
+                        "the current set");
+          return LV2_WORKER_ERR_UNKNOWN;
+        }
+        break;
+      case Job::start_tracker:
+        try {
+          auto holder = std::make_unique<LeaseHolder>();
+          holder->lease = SharedTrackers::process().acquire(m.text);
+          r.object = holder.release();
+        } catch (const std::exception& e) {
+          lv2_log_error(&logger_, "earshot.lv2: cannot start tracker '%s': %s\n", m.text, e.what());
+          return LV2_WORKER_ERR_UNKNOWN;
+        }
+        break;
+    }
+    if (respond(handle, sizeof r, &r) != LV2_WORKER_SUCCESS) {
+      // The host cannot take the answer: free it here, on this thread.
+      if (r.job == Job::load_hrtf) std::unique_ptr<BinauralPanner>(static_cast<BinauralPanner*>(r.object));
+      if (r.job == Job::start_tracker) std::unique_ptr<LeaseHolder>(static_cast<LeaseHolder*>(r.object));
+    }
+    return LV2_WORKER_SUCCESS;
+  }
+
+  // ---- work_response (audio thread) ----
+  LV2_Worker_Status work_response(std::uint32_t size, const void* data) {
+    if (size != sizeof(Reply)) return LV2_WORKER_ERR_UNKNOWN;
+    Reply r;
+    std::memcpy(&r, data, sizeof r);
+    if (r.job == Job::load_hrtf && r.object) {
+      std::unique_ptr<BinauralPanner> next(static_cast<BinauralPanner*>(r.object));
+      std::swap(panner_, next);
+      hand_to_worker(std::move(next));
+      announce_sofa_ = true;
+    } else if (r.job == Job::start_tracker && r.object) {
+      std::unique_ptr<LeaseHolder> next(static_cast<LeaseHolder*>(r.object));
+      if (tracker_requested_ == next->lease->spec) {
+        std::swap(holder_, next);
+      }
+      if (next) hand_to_worker(std::move(next));
+    }
+    return LV2_WORKER_SUCCESS;
+  }
+
+  // ---- state (instantiation class) ----
+  LV2_State_Status save(LV2_State_Store_Function store, LV2_State_Handle handle, const LV2_Feature* const* features) {
+    if (!map_) return LV2_STATE_ERR_NO_FEATURE;
+    const LV2_State_Map_Path* map_path = nullptr;
+    const LV2_State_Free_Path* free_path = nullptr;
+    for (int i = 0; features && features[i]; ++i) {
+      if (std::string_view(features[i]->URI) == LV2_STATE__mapPath)
+        map_path = static_cast<const LV2_State_Map_Path*>(features[i]->data);
+      if (std::string_view(features[i]->URI) == LV2_STATE__freePath)
+        free_path = static_cast<const LV2_State_Free_Path*>(features[i]->data);
+    }
+    const std::string& path = panner_->hrtf_path();
+    char* abstract = map_path ? map_path->abstract_path(map_path->handle, path.c_str()) : nullptr;
+    const char* stored = abstract ? abstract : path.c_str();
+    store(handle, uris_.sofa, stored, std::strlen(stored) + 1, uris_.atom_path,
+          LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
+    if (abstract) {
+      if (free_path) free_path->free_path(free_path->handle, abstract);
+      else std::free(abstract);  // NOLINT: the host allocated it with malloc (LV2 state before freePath)
+    }
+    store(handle, uris_.tracker, tracker_spec_.c_str(), tracker_spec_.size() + 1, uris_.atom_string,
+          LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
+    return LV2_STATE_SUCCESS;
+  }
+
+  LV2_State_Status restore(LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle,
+                           const LV2_Feature* const* features) {
+    if (!map_) return LV2_STATE_ERR_NO_FEATURE;
+    const LV2_State_Map_Path* map_path = nullptr;
+    for (int i = 0; features && features[i]; ++i)
+      if (std::string_view(features[i]->URI) == LV2_STATE__mapPath)
+        map_path = static_cast<const LV2_State_Map_Path*>(features[i]->data);
+    std::size_t size = 0;
+    std::uint32_t type = 0, flags = 0;
+    if (const void* v = retrieve(handle, uris_.tracker, &size, &type, &flags); v && type == uris_.atom_string)
+      tracker_spec_.assign(static_cast<const char*>(v), strnlen(static_cast<const char*>(v), size));
+    if (const void* v = retrieve(handle, uris_.sofa, &size, &type, &flags); v && type == uris_.atom_path) {
+      std::string path(static_cast<const char*>(v), strnlen(static_cast<const char*>(v), size));
+      if (map_path) {
+        if (char* absolute = map_path->absolute_path(map_path->handle, path.c_str())) {
+          path = absolute;
+          std::free(absolute);  // NOLINT: allocated by the host with malloc
+        }
+      }
+      if (path != panner_->hrtf_path()) {
+        try {
+          panner_ = build_panner(path);  // not concurrent with run(): LV2's instantiation class
+        } catch (const std::exception& e) {
+          lv2_log_error(&logger_, "earshot.lv2: restoring HRTF set %s: %s (keeping %s)\n", path.c_str(), e.what(),
+                        panner_->hrtf_path().c_str());
+          return LV2_STATE_ERR_UNKNOWN;
+        }
+      }
+    }
+    return LV2_STATE_SUCCESS;
+  }
+
+ private:
+  [[nodiscard]] std::unique_ptr<BinauralPanner> build_panner(const std::string& path) const {
+    const audio::PreparedHrtf hrtf = audio::HrtfCache::shared().get(path, rate_, BinauralPanner::kBlock);
+    return std::make_unique<BinauralPanner>(hrtf, rate_, path);
+  }
+
+  [[nodiscard]] float control(Port p) const {
+    const auto* v = static_cast<const float*>(ports_[p]);
+    return v && std::isfinite(*v) ? *v : 0.0f;
+  }
+  void set_output(Port p, float value) {
+    if (auto* v = static_cast<float*>(ports_[p])) *v = value;
+  }
+
+  /// Gives `old` to the worker, which frees it off the audio thread. If the
+  /// host refuses the job it is parked until cleanup (one of each kind;
+  /// a second refusal in a row frees the older one here, the only way out).
+  void hand_to_worker(std::unique_ptr<BinauralPanner> old) {
+    if (!send_object(Job::free_panner, old.get())) parked_panner_ = std::move(old);
+    else (void)old.release();  // the worker owns it now
+  }
+  void hand_to_worker(std::unique_ptr<LeaseHolder> old) {
+    if (!send_object(Job::drop_tracker, old.get())) parked_holder_ = std::move(old);
+    else (void)old.release();  // the worker owns it now
+  }
+  bool send_object(Job job, void* object) {
+    Message m;
+    m.job = job;
+    m.object = object;
+    m.text[0] = '\0';
+    return schedule_ &&
+           schedule_->schedule_work(schedule_->handle, offsetof(Message, text) + 1, &m) == LV2_WORKER_SUCCESS;
+  }
+
+  /// Schedules a job carrying `text`; false when it does not fit or there is no worker.
+  bool schedule(Job job, std::string_view text) {
+    if (!schedule_ || text.size() + 1 > kMaxText) return false;
+    Message m;
+    m.job = job;
+    m.object = nullptr;
+    std::memcpy(m.text, text.data(), text.size());
+    m.text[text.size()] = '\0';
+    return schedule_->schedule_work(schedule_->handle, static_cast<std::uint32_t>(offsetof(Message, text) + text.size() + 1),
+                                    &m) == LV2_WORKER_SUCCESS;
+  }
+
+  /// The tracker the ports ask for: none, the state's spec, or the source port's.
+  [[nodiscard]] std::string_view wanted_tracker() const {
+    if (control(kTracking) <= 0.5f) return {};
+    if (!tracker_spec_.empty()) return tracker_spec_;
+    const int i = static_cast<int>(std::lround(control(kTrackerSource)));
+    return kTrackerSources[static_cast<std::size_t>(std::clamp(i, 0, 3))];
+  }
+
+  /// Starts or drops the tracker when the ports changed what they ask for.
+  /// tracker_requested_ has its capacity reserved: assign() does not allocate.
+  void request_tracker() {
+    const std::string_view want = wanted_tracker();
+    if (want == std::string_view(tracker_requested_)) return;
+    if (want.size() >= tracker_requested_.capacity()) return;
+    if (holder_) hand_to_worker(std::move(holder_));
+    if (!want.empty() && !schedule(Job::start_tracker, want)) return;  // retried next run()
+    tracker_requested_.assign(want);
+  }
+
+  void read_control_events() {
+    const auto* seq = static_cast<const LV2_Atom_Sequence*>(ports_[kControl]);
+    if (!seq || !map_) return;
+    LV2_ATOM_SEQUENCE_FOREACH(seq, ev) {
+      if (ev->body.type != uris_.atom_object && ev->body.type != uris_.atom_resource) continue;
+      const auto* obj = reinterpret_cast<const LV2_Atom_Object*>(&ev->body);
+      if (obj->body.otype == uris_.patch_get) {
+        announce_sofa_ = true;
+        announce_tracker_ = true;
+        continue;
+      }
+      if (obj->body.otype != uris_.patch_set) continue;
+      const LV2_Atom* property = nullptr;
+      const LV2_Atom* value = nullptr;
+      lv2_atom_object_get(obj, uris_.patch_property, &property, uris_.patch_value, &value, 0);
+      if (!property || property->type != uris_.atom_urid || !value) continue;
+      const LV2_URID key = reinterpret_cast<const LV2_Atom_URID*>(property)->body;
+      const auto* text = static_cast<const char*>(LV2_ATOM_BODY_CONST(value));
+      const std::string_view s(text, strnlen(text, value->size));
+      if (key == uris_.sofa && value->type == uris_.atom_path) {
+        (void)schedule(Job::load_hrtf, s);
+      } else if (key == uris_.tracker && value->type == uris_.atom_string) {
+        if (s.size() < tracker_spec_.capacity()) tracker_spec_.assign(s);  // capacity reserved: no allocation
+        announce_tracker_ = true;
+      }
+    }
+  }
+
+  /// patch:Set messages on the notify port for what changed (hosts' UIs).
+  void write_notifications() {
+    auto* seq = static_cast<LV2_Atom_Sequence*>(ports_[kNotify]);
+    if (!seq) return;
+    const std::uint32_t capacity = seq->atom.size;
+    lv2_atom_forge_set_buffer(&forge_, reinterpret_cast<std::uint8_t*>(seq), capacity);
+    LV2_Atom_Forge_Frame seq_frame;
+    lv2_atom_forge_sequence_head(&forge_, &seq_frame, 0);
+    if (announce_sofa_) announce(uris_.sofa, uris_.atom_path, panner_->hrtf_path());
+    if (announce_tracker_) announce(uris_.tracker, uris_.atom_string, tracker_spec_);
+    announce_sofa_ = announce_tracker_ = false;
+    lv2_atom_forge_pop(&forge_, &seq_frame);
+  }
+
+  void announce(LV2_URID key, LV2_URID type, const std::string& value) {
+    LV2_Atom_Forge_Frame frame;
+    lv2_atom_forge_frame_time(&forge_, 0);
+    lv2_atom_forge_object(&forge_, &frame, 0, uris_.patch_set);
+    lv2_atom_forge_key(&forge_, uris_.patch_property);
+    lv2_atom_forge_urid(&forge_, key);
+    lv2_atom_forge_key(&forge_, uris_.patch_value);
+    lv2_atom_forge_typed_string(&forge_, type, value.c_str(), static_cast<std::uint32_t>(value.size()));
+    lv2_atom_forge_pop(&forge_, &frame);
+  }
+
+  double rate_;
+  std::array<void*, kPortCount> ports_{};
+  const LV2_URID_Map* map_ = nullptr;
+  Uris uris_{nullptr};
+  LV2_Worker_Schedule* schedule_ = nullptr;
+  LV2_Log_Log* log_ = nullptr;
+  LV2_Log_Logger logger_{};
+  LV2_Atom_Forge forge_{};
+
+  std::unique_ptr<BinauralPanner> panner_;
+  std::unique_ptr<LeaseHolder> holder_;
+  std::unique_ptr<BinauralPanner> parked_panner_;
+  std::unique_ptr<LeaseHolder> parked_holder_;
+  std::string tracker_spec_ = reserved(256);       // from state or patch:Set; "" = the source port
+  std::string tracker_requested_ = reserved(256);  // what run() last asked the worker for
+  HeadPose tracked_{};
+  bool recenter_was_ = false;
+  bool announce_sofa_ = false, announce_tracker_ = false;
+
+  static std::string reserved(std::size_t n) {
+    std::string s;
+    s.reserve(n);
+    return s;
+  }
+};
+
+Plugin* self(LV2_Handle h) { return static_cast<Plugin*>(h); }
+
+LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char*, const LV2_Feature* const* features) {
+  try {
+    return std::make_unique<Plugin>(rate, features).release();  // owned by the host until cleanup
+  } catch (const std::exception& e) {
+    for (int i = 0; features && features[i]; ++i)
+      if (std::string_view(features[i]->URI) == LV2_LOG__log) {
+        auto* log = static_cast<LV2_Log_Log*>(features[i]->data);
+        LV2_Log_Logger logger{};
+        lv2_log_logger_init(&logger, nullptr, log);
+        lv2_log_error(&logger, "earshot.lv2: %s\n", e.what());
+      }
+    return nullptr;
+  }
+}
+
+void connect_port(LV2_Handle h, std::uint32_t port, void* data) { self(h)->connect(port, data); }
+void activate(LV2_Handle h) { self(h)->activate(); }
+void run(LV2_Handle h, std::uint32_t frames) { self(h)->run(frames); }
+void deactivate(LV2_Handle) {}
+void cleanup(LV2_Handle h) { std::unique_ptr<Plugin> owned(self(h)); }
+
+LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond, LV2_Worker_Respond_Handle handle,
+                       std::uint32_t size, const void* data) {
+  return self(h)->work(respond, handle, size, data);
+}
+LV2_Worker_Status work_response(LV2_Handle h, std::uint32_t size, const void* data) {
+  return self(h)->work_response(size, data);
+}
+LV2_State_Status save(LV2_Handle h, LV2_State_Store_Function store, LV2_State_Handle handle, std::uint32_t,
+                      const LV2_Feature* const* features) {
+  return self(h)->save(store, handle, features);
+}
+LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle, std::uint32_t,
+                         const LV2_Feature* const* features) {
+  return self(h)->restore(retrieve, handle, features);
+}
+
+const void* extension_data(const char* uri) {
+  static const LV2_Worker_Interface worker{work, work_response, nullptr};
+  static const LV2_State_Interface state{save, restore};
+  if (std::string_view(uri) == LV2_WORKER__interface) return &worker;
+  if (std::string_view(uri) == LV2_STATE__interface) return &state;
+  return nullptr;
+}
+
+const LV2_Descriptor kDescriptor{EARSHOT_LV2_URI, instantiate, connect_port, activate, run, deactivate, cleanup,
+                                 extension_data};
+
+}  // namespace
+}  // namespace earshot::lv2
+
+extern "C" LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(std::uint32_t index) {
+  return index == 0 ? &earshot::lv2::kDescriptor : nullptr;
+}

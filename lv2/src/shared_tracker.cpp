@@ -1,0 +1,39 @@
+#include "shared_tracker.hpp"
+
+#include "earshot/tracker/source_spec.hpp"
+
+namespace earshot::lv2 {
+
+SharedTrackers& SharedTrackers::process() {
+  static SharedTrackers registry;  // a cache of running trackers, guarded by its mutex
+  return registry;
+}
+
+std::shared_ptr<TrackerLease> SharedTrackers::acquire(const std::string& spec) {
+  const auto parsed = tracker::parse_source_spec(spec, "tracker");
+  std::lock_guard lock(mutex_);
+  if (auto held = leases_[spec].lock()) return held;
+  auto lease = std::make_shared<TrackerLease>();
+  lease->spec = spec;
+  tracker::SourceOptions options;
+  options.wait_for_remote = true;  // no remote yet: the plugin plays on, the tracker keeps looking
+  lease->tracker = std::make_unique<tracker::LiveTracker>(tracker::make_frame_source(parsed, options), lease->slot);
+  leases_[spec] = lease;
+  return lease;
+}
+
+std::size_t SharedTrackers::running() {
+  std::lock_guard lock(mutex_);
+  std::size_t n = 0;
+  for (auto it = leases_.begin(); it != leases_.end();) {
+    if (it->second.expired()) {
+      it = leases_.erase(it);
+    } else {
+      ++n;
+      ++it;
+    }
+  }
+  return n;
+}
+
+}  // namespace earshot::lv2

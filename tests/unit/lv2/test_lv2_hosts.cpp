@@ -1,0 +1,109 @@
+// The plugin in a real LV2 host: lilv's lv2apply pans a noise file to each
+// of a set of azimuths; `earshot render` renders the same source in a Scene
+// JSON; both files' interaural cues (ITD from the cross-correlation, ILD)
+// must agree. Prints the cue table docs/BENCHMARKS.md quotes.
+#include <gtest/gtest.h>
+#include <sndfile.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "binaural_cues.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kRate = 48000;
+
+struct Stereo {
+  std::vector<float> left, right;
+};
+
+void write_mono(const fs::path& path, const std::vector<float>& x) {
+  SF_INFO info{};
+  info.samplerate = kRate;
+  info.channels = 1;
+  info.format = SF_FORMAT_WAV | SF_FORMAT_FLOAT;
+  SNDFILE* f = sf_open(path.c_str(), SFM_WRITE, &info);
+  ASSERT_NE(f, nullptr) << sf_strerror(nullptr);
+  ASSERT_EQ(sf_writef_float(f, x.data(), static_cast<sf_count_t>(x.size())), static_cast<sf_count_t>(x.size()));
+  sf_close(f);
+}
+
+Stereo read_stereo(const fs::path& path) {
+  SF_INFO info{};
+  SNDFILE* f = sf_open(path.c_str(), SFM_READ, &info);
+  if (!f) throw std::runtime_error("cannot read " + path.string());
+  std::vector<float> all(static_cast<std::size_t>(info.frames * info.channels));
+  sf_readf_float(f, all.data(), info.frames);
+  sf_close(f);
+  if (info.channels != 2) throw std::runtime_error(path.string() + ": not stereo");
+  Stereo s;
+  for (sf_count_t i = 0; i < info.frames; ++i) {
+    s.left.push_back(all[static_cast<std::size_t>(2 * i)]);
+    s.right.push_back(all[static_cast<std::size_t>(2 * i + 1)]);
+  }
+  return s;
+}
+
+int run(const std::string& cmd) { return std::system(cmd.c_str()); }
+
+struct Cues {
+  double itd_us, ild_db;
+};
+
+/// Cues over the settled part (from 0.1 s, past the latency and any delay).
+Cues cues(const Stereo& s) {
+  const std::size_t from = kRate / 10, n = s.left.size() - from - kRate / 20;
+  const std::span<const float> l(s.left.data() + from, n), r(s.right.data() + from, n);
+  return {earshot::analysis::itd_s(l, r, kRate) * 1e6, earshot::analysis::ild_db(l, r)};
+}
+
+}  // namespace
+
+TEST(Lv2Hosts, Lv2applyGivesTheCuesOfEarshotRender) {
+  const fs::path work = fs::path(EARSHOT_WORK) / "lv2apply";
+  fs::create_directories(work);
+  std::mt19937 rng(11);
+  std::normal_distribution<float> d(0.0f, 0.1f);
+  std::vector<float> noise(kRate);
+  for (auto& x : noise) x = d(rng);
+  write_mono(work / "noise.wav", noise);
+
+  std::printf("| azimuth | lv2apply ITD us | render ITD us | lv2apply ILD dB | render ILD dB |\n|---:|---:|---:|---:|---:|\n");
+  for (int az : {-150, -90, -60, -30, 0, 30, 60, 90, 150}) {
+    const std::string tag = std::to_string(az);
+    const fs::path plugged = work / ("lv2_" + tag + ".wav"), rendered = work / ("render_" + tag + ".wav");
+    const std::string lv2 = "LV2_PATH='" EARSHOT_LV2_PATH "' lv2apply -i '" + (work / "noise.wav").string() +
+                            "' -o '" + plugged.string() + "' -c azimuth " + tag + " urn:earshot:lv2:panner";
+    ASSERT_EQ(run(lv2), 0) << lv2;
+
+    const double a = az * std::numbers::pi / 180.0;
+    const fs::path scene = work / ("scene_" + tag + ".json");
+    std::ofstream(scene) << "{\"duration_s\": 1, \"sample_rate\": 48000, \"room\": \"none\",\n"
+                         << " \"sources\": [{\"name\": \"noise\", \"signal\": {\"type\": \"file\", \"path\": \"noise.wav\"},\n"
+                         << "   \"position\": [" << -std::sin(a) << ", 0, " << -std::cos(a) << "]}]}\n";
+    const std::string render = std::string("'") + EARSHOT_EXE + "' render --scene '" + scene.string() + "' --out '" +
+                               rendered.string() + "' > /dev/null";
+    ASSERT_EQ(run(render), 0) << render;
+
+    const Cues p = cues(read_stereo(plugged)), r = cues(read_stereo(rendered));
+    std::printf("| %d | %.1f | %.1f | %.2f | %.2f |\n", az, p.itd_us, r.itd_us, p.ild_db, r.ild_db);
+    EXPECT_NEAR(p.itd_us, r.itd_us, 5.0) << "azimuth " << az;
+    EXPECT_NEAR(p.ild_db, r.ild_db, 0.1) << "azimuth " << az;
+    // And the plugin puts positive azimuths on the left (ITD > 0: left leads).
+    if (az >= 30 && az <= 150) {
+      EXPECT_GT(p.itd_us, 100.0) << "azimuth " << az;
+    }
+    if (az <= -30) {
+      EXPECT_LT(p.itd_us, -100.0) << "azimuth " << az;
+    }
+  }
+}

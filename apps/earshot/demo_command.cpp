@@ -44,6 +44,7 @@ struct DemoArgs {
   unsigned long buffer = 128;
   bool list_devices = false, no_window = false;
   std::string screenshot;
+  std::string listen;  ///< the pose tracker's listen address (--listen)
   std::string why;  ///< why it renders instead of playing (empty: found here)
 };
 
@@ -189,8 +190,11 @@ void add_demo_command(CLI::App& app) {
       ->capture_default_str();
   demo->add_option("--room", a->room, "Room preset overriding the scene's (e.g. concert-hall, none)");
   demo->add_option("--tracker", a->tracker,
-                   "Head tracker: sim, replay:DOTS.csv; live also wiimote, opentrack[:PORT], osc[:PORT], none")
+                   "Head tracker: sim, replay:DOTS.csv; live also wiimote, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR], none")
       ->capture_default_str();
+  demo->add_option("--listen", a->listen,
+                   "Pose trackers (opentrack, osc): the IPv4 address to listen on (default 127.0.0.1; 0.0.0.0 for "
+                   "every interface: anyone on the network could then turn your head)");
   demo->add_option("--device", a->device, "Audio output device (name or part of it; see --list-devices)");
   demo->add_flag("--list-devices", a->list_devices, "List the audio output devices and exit");
   demo->add_option("--buffer", a->buffer, "Frames per audio buffer (and plugin block)")
@@ -210,7 +214,11 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--out,-o", a->out, "WAV file written when it cannot play")->capture_default_str();
   demo->add_option("--duration", a->duration, "Seconds (default: the scene's)");
   demo->add_option("--seed", a->seed, "Seed of the simulated head's walk")->capture_default_str();
-  demo->callback([a] { run_demo(*a); });
+  demo->callback([a] {
+    DemoArgs args = *a;
+    if (!args.listen.empty()) args.tracker = tracker::with_listen_address(args.tracker, args.listen, "--tracker", "--listen");
+    run_demo(args);
+  });
 }
 
 }  // namespace earshot::app

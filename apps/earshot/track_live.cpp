@@ -39,10 +39,12 @@ struct LiveOptions {
   bool fast = false;
   double focal = 1280.0;
   std::string model_path;
+  std::string listen;  // live: the pose source's listen address (empty: the spec's, 127.0.0.1 by default)
 };
 
 std::unique_ptr<FrameSource> make_source(const LiveOptions& o, bool camera_only) {
-  const SourceSpec spec = parse_source_spec(o.source, "--source");
+  const std::string text = o.listen.empty() ? o.source : with_listen_address(o.source, o.listen, "--source", "--listen");
+  const SourceSpec spec = parse_source_spec(text, "--source");
   if (camera_only && spec.sends_poses())
     throw InputError::at("--source", 0, "", "'" + o.source + "' sends poses, not dots: record needs wiimote, sim or replay:FILE");
   SourceOptions so;
@@ -162,6 +164,9 @@ void add_track_live_commands(CLI::App& track) {
   auto lo = std::make_shared<LiveOptions>();
   auto* live = track.add_subcommand("live", "Track live and print the listener pose and state; optionally record it as a Pose track CSV");
   live->add_option("--source,-s", lo->source, "Input: " + std::string(kSourceSpecs))->capture_default_str();
+  live->add_option("--listen", lo->listen,
+                   "Pose sources (opentrack, osc): the IPv4 address to listen on (default 127.0.0.1; 0.0.0.0 for every "
+                   "interface: anyone on the network could then turn your head)");
   live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
   add_common(*live, *lo);
   live->callback([lo] { run_live(*lo); });

@@ -6,6 +6,7 @@
 #include "earshot/tracker/opentrack_packet.hpp"
 #include "earshot/tracker/osc_pose.hpp"
 #include "earshot/tracker/udp_pose_source.hpp"
+#include "earshot/tracker/udp_socket.hpp"
 #include "earshot/tracker/wiimote_source.hpp"
 
 namespace earshot::tracker {
@@ -30,12 +31,31 @@ std::uint16_t port_of(std::string_view spec, std::string_view field, std::option
 
 SourceSpec parse_source_spec(std::string_view spec, std::string_view field) {
   using Kind = SourceSpec::Kind;
-  const std::size_t colon = spec.find(':');
-  const std::string_view kind = spec.substr(0, colon);
+  // KIND[:ARG][@ADDR]; replay's ARG is a file name and may hold '@'.
+  const std::size_t kind_end = spec.find_first_of(":@");
+  const std::string_view kind = spec.substr(0, kind_end);
+  const bool listens = kind == "opentrack" || kind == "osc";
+  std::string_view rest = kind_end == std::string_view::npos ? std::string_view() : spec.substr(kind_end);
+  std::optional<std::string_view> listen;
+  if (listens) {
+    if (const std::size_t at = rest.find('@'); at != std::string_view::npos) {
+      listen = rest.substr(at + 1);
+      rest = rest.substr(0, at);
+    }
+  }
   std::optional<std::string_view> arg;
-  if (colon != std::string_view::npos) arg = spec.substr(colon + 1);
+  if (!rest.empty() && rest.front() == ':') arg = rest.substr(1);
   SourceSpec s;
+  if (listen) {
+    s.listen = std::string(*listen);
+    if (!is_ipv4_address(s.listen))
+      throw spec_error(field, spec,
+                       "bad listen address '" + s.listen + "' (an IPv4 address: 127.0.0.1, 0.0.0.0 for every interface, "
+                       "or one interface's address)");
+  }
   if (kind == "wiimote" || kind == "sim") {
+    if (!rest.empty() && rest.front() == '@')
+      throw spec_error(field, spec, "'" + std::string(kind) + "' takes no listen address (only opentrack and osc listen)");
     if (arg) throw spec_error(field, spec, "'" + std::string(kind) + "' takes no argument");
     s.kind = kind == "sim" ? Kind::sim : Kind::wiimote;
   } else if (kind == "replay") {
@@ -54,6 +74,27 @@ SourceSpec parse_source_spec(std::string_view spec, std::string_view field) {
   return s;
 }
 
+std::string with_listen_address(std::string_view spec, std::string_view address, std::string_view spec_field,
+                                std::string_view listen_field) {
+  const std::string addr(address);
+  if (!is_ipv4_address(addr))
+    throw InputError::at(listen_field, 0, "",
+                         "bad listen address '" + addr + "' (an IPv4 address: 127.0.0.1, 0.0.0.0 for every interface, "
+                         "or one interface's address)");
+  bool pose_source = false;
+  try {
+    pose_source = parse_source_spec(spec, spec_field).sends_poses();
+  } catch (const InputError&) {
+    if (spec != "none") throw;  // the spec's own error names the spec's field
+  }
+  if (!pose_source)
+    throw InputError::at(listen_field, 0, "", "needs a pose source (opentrack[:PORT] or osc[:PORT]); '" +
+                                                  std::string(spec) + "' does not listen on the network");
+  if (spec.find('@') != std::string_view::npos)
+    throw InputError::at(listen_field, 0, "", "source '" + std::string(spec) + "' already names a listen address");
+  return std::string(spec) + "@" + addr;
+}
+
 std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const SourceOptions& o) {
   switch (spec.kind) {
     case SourceSpec::Kind::wiimote: {
@@ -68,8 +109,9 @@ std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const Sou
     }
     case SourceSpec::Kind::replay: return std::make_unique<ReplaySource>(spec.file, o.pacing);
     case SourceSpec::Kind::opentrack:
-      return std::make_unique<UdpPoseSource>("opentrack", spec.port, true, decode_opentrack);
-    case SourceSpec::Kind::osc: return std::make_unique<UdpPoseSource>("osc", spec.port, true, decode_osc);
+      return std::make_unique<UdpPoseSource>("opentrack", spec.port, spec.listen, decode_opentrack);
+    case SourceSpec::Kind::osc:
+      return std::make_unique<UdpPoseSource>("osc", spec.port, spec.listen, OscPoseDecoder::packet_decoder());
   }
   throw std::logic_error("make_frame_source: unknown source kind");
 }

@@ -7,7 +7,15 @@ namespace earshot::tracker {
 UdpPoseSource::UdpPoseSource(std::string name, std::uint16_t port, bool all_interfaces, PacketDecoder decoder)
     : name_(std::move(name)), socket_(port, all_interfaces), decoder_(std::move(decoder)) {}
 
+UdpPoseSource::UdpPoseSource(std::string name, std::uint16_t port, const std::string& listen, PacketDecoder decoder)
+    : name_(std::move(name)), socket_(port, listen), decoder_(std::move(decoder)) {}
+
 SourceEvent UdpPoseSource::next(std::chrono::milliseconds timeout) {
+  if (pending_recenter_) {
+    pending_recenter_ = false;
+    const double now = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    return make_note(SourceNote::Kind::recenter, "recenter requested", now);
+  }
   std::array<std::uint8_t, 2048> buf{};
   const long n = socket_.receive(buf, timeout);
   if (n < 0) return make_note(SourceNote::Kind::timeout);
@@ -25,8 +33,9 @@ SourceEvent UdpPoseSource::next(std::chrono::milliseconds timeout) {
     return make_note(SourceNote::Kind::timeout);
   }
   if (m->pose) {
-    // A packet may also ask to recenter; the pose comes first, the recenter
-    // applies from the next one.
+    // A packet (an OSC bundle) may also ask to recenter; the pose comes
+    // first, the recenter is the next event and applies from the next pose.
+    pending_recenter_ = m->recenter;
     m->pose->t = t;
     return *m->pose;
   }

@@ -23,19 +23,34 @@ sockaddr_in address(std::uint16_t port, bool any) {
 
 }  // namespace
 
-UdpReceiver::UdpReceiver(std::uint16_t port, bool all_interfaces) {
+bool is_ipv4_address(const std::string& text) {
+  in_addr a{};
+  return ::inet_pton(AF_INET, text.c_str(), &a) == 1;
+}
+
+UdpReceiver::UdpReceiver(std::uint16_t port, bool all_interfaces)
+    : UdpReceiver(port, std::string(all_interfaces ? "0.0.0.0" : "127.0.0.1")) {}
+
+UdpReceiver::UdpReceiver(std::uint16_t port, const std::string& address) {
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_port = htons(port);
+  if (::inet_pton(AF_INET, address.c_str(), &a.sin_addr) != 1)
+    throw std::runtime_error("cannot listen on '" + address + "': not an IPv4 address (e.g. 127.0.0.1 or 0.0.0.0)");
   fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
   if (fd_ < 0) throw std::runtime_error(std::string("UDP socket: ") + std::strerror(errno));
-  const sockaddr_in a = address(port, all_interfaces);
   if (::bind(fd_, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
     const int err = errno;
     ::close(fd_);
-    throw std::runtime_error("cannot listen on UDP port " + std::to_string(port) + ": " + std::strerror(err));
+    throw std::runtime_error("cannot listen on UDP " + address + ":" + std::to_string(port) + ": " + std::strerror(err));
   }
   sockaddr_in bound{};
   socklen_t len = sizeof bound;
   ::getsockname(fd_, reinterpret_cast<sockaddr*>(&bound), &len);
   port_ = ntohs(bound.sin_port);
+  char text[INET_ADDRSTRLEN] = {};
+  ::inet_ntop(AF_INET, &bound.sin_addr, text, sizeof text);
+  address_ = text;
 }
 
 UdpReceiver::~UdpReceiver() { ::close(fd_); }

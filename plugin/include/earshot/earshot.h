@@ -256,10 +256,13 @@ ES_API ESenum esReverbi(ESworld world, ESenum param, ESint value);
 ES_API ESenum esGetReverbf(ESworld world, ESenum param, ESfloat *value);
 
 /* Head tracking: start a live tracker on `spec` ("wiimote", "sim",
- * "replay:DOTS.csv", "opentrack[:PORT]", "osc[:PORT]") and let its pose turn
- * and move the head relative to the listener. NULL or "" detaches. The
- * tracker runs on its own thread; esRender reads its newest pose once per
- * block without waiting. */
+ * "replay:DOTS.csv", "opentrack[:PORT][@ADDR]", "osc[:PORT][@ADDR]") and let
+ * its pose turn and move the head relative to the listener. The pose sources
+ * listen on 127.0.0.1 unless "@ADDR" names another IPv4 address (e.g.
+ * "osc:9000@0.0.0.0" for every interface: pose packets are unauthenticated,
+ * so anyone on that network could turn the head; docs/OSC.md). NULL or ""
+ * detaches. The tracker runs on its own thread; esRender reads its newest
+ * pose once per block without waiting. */
 ES_API ESenum esAttachTracker(ESworld world, const char *spec);
 /* The tracker's current pose becomes neutral. */
 ES_API ESenum esRecenter(ESworld world);

@@ -61,28 +61,29 @@ TEST(Opentrack, MalformedPacketsAreDroppedWithAReason) {
 }
 
 TEST(Osc, AddressesAndTypes) {
+  OscPoseDecoder d;
   const std::array<double, 6> ypr{0.1, 0.2, -0.3, 90.0, 0.0, 0.0};
   std::string why;
-  auto m = decode_osc(encode_osc("/earshot/pose/ypr", ypr), &why);
+  auto m = d.decode(encode_osc("/earshot/pose/ypr", ypr), &why);
   ASSERT_TRUE(m && m->pose) << why;
   EXPECT_TRUE(m->pose->position_m.isApprox(Vec3(0.1, 0.2, -0.3)));
   EXPECT_TRUE((m->pose->orientation * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));  // yaw 90 = left
 
   const Quat q = to_eigen(earshot::quat_from_ypr(0, 0, 30 * kDeg));
   const std::array<double, 7> quat{0, 0, 0, q.w(), q.x(), q.y(), q.z()};
-  m = decode_osc(encode_osc("/earshot/pose/quat", quat), &why);
+  m = d.decode(encode_osc("/earshot/pose/quat", quat), &why);
   ASSERT_TRUE(m && m->pose) << why;
   EXPECT_NEAR(m->pose->orientation.angularDistance(q), 0.0, 1e-12);
 
   const std::array<double, 3> ypr_only{0, 45, 0};
-  m = decode_osc(encode_osc("/earshot/ypr", ypr_only), &why);
+  m = d.decode(encode_osc("/earshot/ypr", ypr_only), &why);
   ASSERT_TRUE(m && m->pose) << why;
   EXPECT_TRUE(m->pose->position_m.isZero());
 
   const std::array<double, 4> q_only{1, 0, 0, 0};
-  EXPECT_TRUE(decode_osc(encode_osc("/earshot/quat", q_only), &why));
+  EXPECT_TRUE(d.decode(encode_osc("/earshot/quat", q_only), &why));
 
-  m = decode_osc(encode_osc("/earshot/recenter", {}), &why);
+  m = d.decode(encode_osc("/earshot/recenter", {}), &why);
   ASSERT_TRUE(m) << why;
   EXPECT_TRUE(m->recenter);
   EXPECT_FALSE(m->pose);
@@ -90,30 +91,31 @@ TEST(Osc, AddressesAndTypes) {
   // Float32 arguments, byte for byte: "/earshot/ypr\0\0\0\0" ",fff\0\0\0\0" then three floats.
   Bytes raw{'/', 'e', 'a', 'r', 's', 'h', 'o', 't', '/', 'y', 'p', 'r', 0, 0, 0, 0, ',', 'f', 'f', 'f', 0, 0, 0, 0,
             0x42, 0xB4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // 90.0f, 0, 0 (big-endian)
-  m = decode_osc(raw, &why);
+  m = d.decode(raw, &why);
   ASSERT_TRUE(m && m->pose) << why;
   EXPECT_TRUE((m->pose->orientation * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-6));
 }
 
 TEST(Osc, MalformedMessagesAreDroppedWithAReason) {
+  OscPoseDecoder d;
   std::string why;
   const std::array<double, 2> two{1, 2};
-  EXPECT_FALSE(decode_osc(encode_osc("/earshot/ypr", two), &why));
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/ypr", two), &why));
   EXPECT_NE(why.find("expected 3 numbers"), std::string::npos) << why;
   const std::array<double, 3> three{1, 2, 3};
-  EXPECT_FALSE(decode_osc(encode_osc("/other/thing", three), &why));
+  EXPECT_FALSE(d.decode(encode_osc("/other/thing", three), &why));
   EXPECT_NE(why.find("not one of ours"), std::string::npos) << why;
   const std::array<double, 4> notunit{2, 0, 0, 0};
-  EXPECT_FALSE(decode_osc(encode_osc("/earshot/quat", notunit), &why));
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/quat", notunit), &why));
   const std::array<double, 6> far{100, 0, 0, 0, 0, 0};
-  EXPECT_FALSE(decode_osc(encode_osc("/earshot/pose/ypr", far), &why));
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/pose/ypr", far), &why));
   const std::array<double, 3> nan{std::nan(""), 0, 0};
-  EXPECT_FALSE(decode_osc(encode_osc("/earshot/ypr", nan), &why));
-  EXPECT_FALSE(decode_osc(Bytes{'/', 'x', 0}, &why));  // truncated
-  EXPECT_FALSE(decode_osc(Bytes{}, &why));
-  Bytes bundle{'#', 'b', 'u', 'n', 'd', 'l', 'e', 0, 0, 0, 0, 0, 0, 0, 0, 1};
-  EXPECT_FALSE(decode_osc(bundle, &why));
-  EXPECT_NE(why.find("bundle"), std::string::npos);
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/ypr", nan), &why));
+  EXPECT_FALSE(d.decode(Bytes{'/', 'x', 0}, &why));  // truncated
+  EXPECT_FALSE(d.decode(Bytes{}, &why));
+  Bytes bundle{'#', 'b', 'u', 'n', 'd', 'l', 'e', 0, 0, 0, 0, 0, 0, 0, 0, 1};  // an empty bundle
+  EXPECT_FALSE(d.decode(bundle, &why));
+  EXPECT_NE(why.find("bundle holds no messages"), std::string::npos) << why;
 }
 
 TEST(UdpPoseSources, LoopbackPacketsBecomePosesAndBadOnesAreCounted) {
@@ -134,7 +136,7 @@ TEST(UdpPoseSources, LoopbackPacketsBecomePosesAndBadOnesAreCounted) {
   EXPECT_EQ(ot.dropped(), 1u);
   EXPECT_NE(ot.last_error().find("12 bytes"), std::string::npos) << ot.last_error();
 
-  UdpPoseSource osc("osc", 0, false, decode_osc);
+  UdpPoseSource osc("osc", 0, false, OscPoseDecoder::packet_decoder());
   send_udp_loopback(osc.port(), encode_osc("/earshot/recenter", {}));
   bool recenter = false;
   for (int i = 0; i < 50 && !recenter; ++i) {

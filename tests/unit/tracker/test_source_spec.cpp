@@ -7,6 +7,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "earshot/tracker/udp_pose_source.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -56,13 +57,83 @@ TEST(SourceSpec, BadPortsNameThePortAndTheSpec) {
 
 TEST(SourceSpec, UnknownKindsAndArgumentsAreErrors) {
   EXPECT_EQ(error_of("webcam", "tracker"),
-            "tracker: unknown source 'webcam' (wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT])");
+            "tracker: unknown source 'webcam' (wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR])");
   EXPECT_NE(error_of("").find("unknown source ''"), std::string::npos);
   EXPECT_NE(error_of("Sim").find("unknown source 'Sim'"), std::string::npos);
   EXPECT_EQ(error_of("sim:3"), "--source: source 'sim:3': 'sim' takes no argument");
   EXPECT_EQ(error_of("wiimote:0"), "--source: source 'wiimote:0': 'wiimote' takes no argument");
   EXPECT_EQ(error_of("replay"), "--source: source 'replay': replay needs a file (replay:FILE)");
   EXPECT_EQ(error_of("replay:"), "--source: source 'replay:': replay needs a file (replay:FILE)");
+}
+
+TEST(SourceSpec, ListenAddressDefaultsToLoopbackAndParses) {
+  EXPECT_EQ(parse_source_spec("osc").listen, "127.0.0.1");
+  EXPECT_EQ(parse_source_spec("opentrack:5000").listen, "127.0.0.1");
+  SourceSpec s = parse_source_spec("osc:9001@0.0.0.0");
+  EXPECT_EQ(s.kind, Kind::osc);
+  EXPECT_EQ(s.port, 9001);
+  EXPECT_EQ(s.listen, "0.0.0.0");
+  s = parse_source_spec("opentrack@192.168.1.5");
+  EXPECT_EQ(s.kind, Kind::opentrack);
+  EXPECT_EQ(s.port, 4242);
+  EXPECT_EQ(s.listen, "192.168.1.5");
+  s = parse_source_spec("osc@0.0.0.0");
+  EXPECT_EQ(s.port, 9000);
+  EXPECT_EQ(s.listen, "0.0.0.0");
+  EXPECT_EQ(parse_source_spec("replay:take@home.csv").file, "take@home.csv");  // a file name may hold '@'
+}
+
+TEST(SourceSpec, BadListenAddressesNameTheFieldAndTheSpec) {
+  EXPECT_EQ(error_of("osc:9000@localhost"),
+            "--source: source 'osc:9000@localhost': bad listen address 'localhost' (an IPv4 address: 127.0.0.1, "
+            "0.0.0.0 for every interface, or one interface's address)");
+  for (const char* spec : {"osc@", "osc@1.2.3", "opentrack@256.0.0.1", "osc:9000@::1", "osc@ 127.0.0.1", "osc@1.2.3.4@5"}) {
+    const std::string e = error_of(spec, "tracker");
+    EXPECT_EQ(e.rfind("tracker: ", 0), 0u) << e;
+    EXPECT_NE(e.find("bad listen address"), std::string::npos) << e;
+    EXPECT_NE(e.find(std::string("'") + spec + "'"), std::string::npos) << e;
+  }
+  EXPECT_NE(error_of("osc:@0.0.0.0").find("bad UDP port ''"), std::string::npos);
+  EXPECT_EQ(error_of("sim@0.0.0.0"), "--source: source 'sim@0.0.0.0': 'sim' takes no listen address (only opentrack and osc listen)");
+  EXPECT_NE(error_of("wiimote@127.0.0.1").find("takes no listen address"), std::string::npos);
+}
+
+TEST(SourceSpec, ListenOptionAppendsTheAddressToPoseSourcesOnly) {
+  EXPECT_EQ(with_listen_address("osc:9000", "0.0.0.0"), "osc:9000@0.0.0.0");
+  EXPECT_EQ(with_listen_address("opentrack", "192.168.1.5"), "opentrack@192.168.1.5");
+  auto err = [](std::string_view spec, std::string_view addr) {
+    try {
+      (void)with_listen_address(spec, addr, "--tracker", "--listen");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    ADD_FAILURE() << spec << " with " << addr << " was accepted";
+    return std::string();
+  };
+  EXPECT_EQ(err("sim", "0.0.0.0"),
+            "--listen: needs a pose source (opentrack[:PORT] or osc[:PORT]); 'sim' does not listen on the network");
+  EXPECT_NE(err("none", "0.0.0.0").find("needs a pose source"), std::string::npos);
+  EXPECT_EQ(err("osc:0", "0.0.0.0"), "--tracker: source 'osc:0': bad UDP port '0' (1-65535)");  // the spec's own error
+  EXPECT_NE(err("osc", "everywhere").find("--listen: bad listen address 'everywhere'"), std::string::npos);
+  EXPECT_NE(err("osc@127.0.0.1", "0.0.0.0").find("already names a listen address"), std::string::npos);
+}
+
+// The socket itself: bound to 127.0.0.1 unless the spec says otherwise, as the
+// kernel reports it (getsockname).
+TEST(SourceSpec, PoseSourcesBindTheLoopbackByDefault) {
+  for (const char* text : {"osc", "opentrack"}) {
+    SourceSpec s = parse_source_spec(text);
+    s.port = 0;  // any free port: the test must not collide with a running tracker
+    const auto src = make_frame_source(s);
+    const auto* udp = dynamic_cast<const UdpPoseSource*>(src.get());
+    ASSERT_NE(udp, nullptr) << text;
+    EXPECT_EQ(udp->listen_address(), "127.0.0.1") << text;
+    EXPECT_NE(udp->port(), 0) << text;
+  }
+  SourceSpec all = parse_source_spec("osc@0.0.0.0");
+  all.port = 0;
+  const auto src = make_frame_source(all);
+  EXPECT_EQ(dynamic_cast<const UdpPoseSource&>(*src).listen_address(), "0.0.0.0");
 }
 
 TEST(SourceSpec, MakesTheSourceItNames) {

@@ -1,11 +1,19 @@
 // Which live tracker source to run, from its one-word spec (the same words
-// for `earshot track live --source`, esTrackerStart and the OpenAL bridge):
-//   wiimote           a Wii Remote over Bluetooth HID
-//   sim               the simulator's seeded random walk
-//   replay:FILE       a recorded Dots CSV
-//   opentrack[:PORT]  opentrack's UDP output (default port 4242)
-//   osc[:PORT]        /head/pose OSC messages (default port 9000)
+// for `earshot track live --source`, `earshot demo --tracker`,
+// esAttachTracker and the OpenAL bridge):
+//   wiimote                  a Wii Remote over Bluetooth HID
+//   sim                      the simulator's seeded random walk
+//   replay:FILE              a recorded Dots CSV
+//   opentrack[:PORT][@ADDR]  opentrack's UDP output (default port 4242)
+//   osc[:PORT][@ADDR]        OSC head poses: Earshot's, SPARTA's and IEM
+//                            SceneRotator's addresses (default port 9000;
+//                            docs/OSC.md)
 // The first three deliver camera dots, the last two ready-made poses.
+// ADDR is the IPv4 address the UDP socket listens on: 127.0.0.1 by default,
+// 0.0.0.0 for every interface, or one interface's address (e.g.
+// osc:9000@0.0.0.0, opentrack@192.168.1.5). Loopback is the default because
+// pose packets are unauthenticated: a socket open to the network lets anyone
+// on it turn the listener's head. Listen wider only on a network you trust.
 #pragma once
 
 #include <cstdint>
@@ -22,13 +30,18 @@
 namespace earshot::tracker {
 
 /// The spellings accepted, for help texts and error messages.
-inline constexpr std::string_view kSourceSpecs = "wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT]";
+inline constexpr std::string_view kSourceSpecs =
+    "wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR]";
+
+/// Where pose inputs listen unless the spec says otherwise.
+inline constexpr std::string_view kDefaultListenAddress = "127.0.0.1";
 
 struct SourceSpec {
   enum class Kind { wiimote, sim, replay, opentrack, osc };
   Kind kind = Kind::wiimote;
   std::string file;        ///< replay: the Dots CSV
   std::uint16_t port = 0;  ///< opentrack, osc: the UDP port (the default when none is given)
+  std::string listen{kDefaultListenAddress};  ///< opentrack, osc: the IPv4 address to listen on
 
   /// opentrack and osc send poses, not camera dots.
   [[nodiscard]] bool sends_poses() const { return kind == Kind::opentrack || kind == Kind::osc; }
@@ -36,8 +49,17 @@ struct SourceSpec {
 
 /// Parses a spec. Throws earshot::InputError naming `field` (where the spec
 /// came from, e.g. "--source") and the spec itself for an unknown kind, a
-/// missing or unexpected argument, or a port that is not 1..65535.
+/// missing or unexpected argument, a port that is not 1..65535, or a listen
+/// address that is not IPv4 (or given to a source that does not listen).
 [[nodiscard]] SourceSpec parse_source_spec(std::string_view spec, std::string_view field = "source");
+
+/// `spec` with "@ADDRESS" appended (what `--listen ADDRESS` means). Throws
+/// earshot::InputError naming `spec_field` when the spec does not parse, and
+/// naming `listen_field` when it is not a pose source (opentrack, osc),
+/// already has a listen address, or `address` is not an IPv4 address.
+[[nodiscard]] std::string with_listen_address(std::string_view spec, std::string_view address,
+                                              std::string_view spec_field = "--source",
+                                              std::string_view listen_field = "--listen");
 
 /// How to build a source beyond its spec.
 struct SourceOptions {

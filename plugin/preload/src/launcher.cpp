@@ -1,4 +1,4 @@
-// earshot-openal-run [--tracker SPEC] [--place stereo|none] [--recenter-after S] [--] PROGRAM ARGS...
+// earshot-openal-run [--tracker SPEC] [--place stereo|all|none] [--recenter-after S] [--] PROGRAM ARGS...
 // Runs PROGRAM with libearshot_openal_preload.so preloaded (docs/OPENAL_RUN.md):
 // finds the library next to this executable (build tree) or in the install
 // lib directory, prepends it to LD_PRELOAD, passes the options on in
@@ -51,8 +51,9 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--place", place,
                  "stereo: a stereo source's two channels become speakers at +-30 degrees in the room "
-                 "(AL_STEREO_ANGLES turned against the head's yaw); none: OpenAL's head-locked stereo")
-      ->check(CLI::IsMember({"stereo", "none"}))
+                 "(AL_STEREO_ANGLES turned against the head's yaw); all: also mono sources playing at the "
+                 "listener move 1 m ahead in the room; none: sources as OpenAL plays them")
+      ->check(CLI::IsMember({"stereo", "all", "none"}))
       ->capture_default_str();
   app.add_option("--recenter-after", recenter_after, "recenter the tracker once, S seconds after it starts")
       ->check(CLI::NonNegativeNumber);

@@ -17,8 +17,9 @@
 // current, so the sound follows the head while the program leaves its
 // listener alone. Stereo sources, which OpenAL Soft plays head-locked, get
 // AL_STEREO_ANGLES turned against the head's yaw, so their two channels stay
-// as speakers in the room (EARSHOT_OPENAL_PLACE=stereo, the default; "none"
-// leaves them alone).
+// as speakers in the room (EARSHOT_OPENAL_PLACE=stereo, the default); with
+// "all", mono sources that play at the listener (music players) are also
+// moved 1 m ahead into the room; "none" leaves every source alone.
 //
 // Threads: OpenAL Soft is thread-safe; the shim's state (the contexts the
 // program made current, its listener in each, its stereo sources) is behind
@@ -85,6 +86,12 @@ struct Real {
   LPALGETLISTENERIV get_listeneriv = next_symbol<LPALGETLISTENERIV>("alGetListeneriv");
   LPALSOURCEI sourcei = next_symbol<LPALSOURCEI>("alSourcei");
   LPALSOURCEFV sourcefv = next_symbol<LPALSOURCEFV>("alSourcefv");
+  LPALSOURCE3F source3f = next_symbol<LPALSOURCE3F>("alSource3f");
+  LPALGETSOURCEI get_sourcei = next_symbol<LPALGETSOURCEI>("alGetSourcei");
+  LPALGETSOURCEFV get_sourcefv = next_symbol<LPALGETSOURCEFV>("alGetSourcefv");
+  LPALSOURCEPLAY source_play = next_symbol<LPALSOURCEPLAY>("alSourcePlay");
+  LPALSOURCEPLAYV source_playv = next_symbol<LPALSOURCEPLAYV>("alSourcePlayv");
+  LPALISEXTENSIONPRESENT is_extension_present = next_symbol<LPALISEXTENSIONPRESENT>("alIsExtensionPresent");
   LPALSOURCEQUEUEBUFFERS source_queue_buffers = next_symbol<LPALSOURCEQUEUEBUFFERS>("alSourceQueueBuffers");
   LPALDELETESOURCES delete_sources = next_symbol<LPALDELETESOURCES>("alDeleteSources");
   LPALGETBUFFERI get_bufferi = next_symbol<LPALGETBUFFERI>("alGetBufferi");
@@ -119,9 +126,16 @@ struct ContextState {
   Quat rotation = earshot::kIdentityQuat;       // of `orientation`; identity if degenerate
   bool composable = true;                       // false: at/up degenerate, forwarded as given
   std::unordered_set<ALuint> stereo_sources;
+  std::unordered_set<ALuint> mono_sources;   // have a mono buffer (candidates for Place::all)
+  std::unordered_set<ALuint> placed_mono;    // moved from the listener to 1 m ahead
 };
 
-enum class Place { none, stereo };
+// What the shim does to sources OpenAL Soft would play head-locked.
+enum class Place {
+  none,    // nothing: only the listener turns
+  stereo,  // stereo sources: speakers at +-30 degrees in the room
+  all,     // and mono sources at the listener: 1 m ahead in the room
+};
 
 class Shim {
  public:
@@ -199,7 +213,7 @@ class Shim {
 
   // A buffer was attached to or queued on `source` in the current context.
   void buffer_attached(ALuint source, ALuint buffer) {
-    if (place_ != Place::stereo || buffer == 0 || !real().is_buffer(buffer)) return;
+    if (place_ == Place::none || buffer == 0 || !real().is_buffer(buffer)) return;
     ALint channels = 0;
     real().get_bufferi(buffer, AL_CHANNELS, &channels);
     std::lock_guard lock(mu_);
@@ -209,16 +223,55 @@ class Shim {
       if (s->stereo_sources.insert(source).second && verbose())
         std::fprintf(stderr, "%sstereo source %u placed as two speakers at +-30 degrees\n", kPrefix, source);
       apply_stereo(source);
+      s->mono_sources.erase(source);
     } else if (channels == 1) {
       s->stereo_sources.erase(source);
+      s->mono_sources.insert(source);
     }
+  }
+
+  // Place::all: a mono source about to play at the listener (relative at
+  // the origin, or at the program's listener position) is moved 1 m ahead
+  // of the program's listener, where head turns are heard.
+  void source_playing(ALuint source) {
+    if (place_ != Place::all) return;
+    std::lock_guard lock(mu_);
+    ContextState* s = current_state();
+    if (!s || !s->mono_sources.contains(source) || s->placed_mono.contains(source)) return;
+    ALint relative = AL_FALSE, spatialize = AL_AUTO_SOFT;
+    float pos[3] = {0, 0, 0};
+    real().get_sourcei(source, AL_SOURCE_RELATIVE, &relative);
+    real().get_sourcefv(source, AL_POSITION, pos);
+    if (real().is_extension_present("AL_SOFT_source_spatialize"))
+      real().get_sourcei(source, AL_SOURCE_SPATIALIZE_SOFT, &spatialize);
+    if (spatialize == AL_FALSE) return;
+    const float* origin = relative ? nullptr : s->position;
+    double d2 = 0;
+    for (int i = 0; i < 3; ++i) {
+      const double d = pos[i] - (origin ? origin[i] : 0.0f);
+      d2 += d * d;
+    }
+    if (d2 > 1e-6) return;
+    s->placed_mono.insert(source);
+    if (verbose()) std::fprintf(stderr, "%smono source %u at the listener placed 1 m ahead\n", kPrefix, source);
+    apply_mono(source);
+  }
+
+  // The program placed the source itself: it is the program's again.
+  void source_moved(ALuint source) {
+    std::lock_guard lock(mu_);
+    if (ContextState* s = current_state()) s->placed_mono.erase(source);
   }
 
   void sources_deleted(ALsizei n, const ALuint* sources) {
     std::lock_guard lock(mu_);
     ContextState* s = current_state();
     if (!s || n <= 0 || !sources) return;
-    for (ALsizei i = 0; i < n; ++i) s->stereo_sources.erase(sources[i]);
+    for (ALsizei i = 0; i < n; ++i) {
+      s->stereo_sources.erase(sources[i]);
+      s->mono_sources.erase(sources[i]);
+      s->placed_mono.erase(sources[i]);
+    }
   }
 
  private:
@@ -227,8 +280,10 @@ class Shim {
     const std::string_view place = p ? p : "stereo";
     if (place == "none") {
       place_ = Place::none;
+    } else if (place == "all") {
+      place_ = Place::all;
     } else if (place != "stereo") {
-      std::fprintf(stderr, "%sEARSHOT_OPENAL_PLACE=\"%s\" is not none or stereo; using stereo\n", kPrefix, p);
+      std::fprintf(stderr, "%sEARSHOT_OPENAL_PLACE=\"%s\" is not none, stereo or all; using stereo\n", kPrefix, p);
     }
   }
 
@@ -309,6 +364,16 @@ class Shim {
     real().listenerfv(AL_POSITION, pos);
     real().listenerfv(AL_ORIENTATION, ori);
     for (ALuint src : s.stereo_sources) apply_stereo(src);
+    for (ALuint src : s.placed_mono) apply_mono(src);
+  }
+
+  // 1 m ahead of the program's listener, as seen from the head (relative to
+  // the effective listener P H at p + P h: H^-1 ((0, 0, -1) - h)). Under mu_.
+  void apply_mono(ALuint source) const {
+    const Vec3 v = earshot::rotate_inverse(
+        head_rotation_, Vec3{-head_position_[0], -head_position_[1], -1.0 - head_position_[2]});
+    real().sourcei(source, AL_SOURCE_RELATIVE, AL_TRUE);
+    real().source3f(source, AL_POSITION, static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
   }
 
   // AL_STEREO_ANGLES are relative to the head (anticlockwise, radians): the
@@ -412,6 +477,27 @@ EARSHOT_EXPORT void alGetListeneriv(ALenum param, ALint* values) {
 EARSHOT_EXPORT void alSourcei(ALuint source, ALenum param, ALint value) {
   real().sourcei(source, param, value);
   if (param == AL_BUFFER) Shim::get().buffer_attached(source, static_cast<ALuint>(value));
+  if (param == AL_SOURCE_RELATIVE) Shim::get().source_moved(source);
+}
+
+EARSHOT_EXPORT void alSource3f(ALuint source, ALenum param, ALfloat a, ALfloat b, ALfloat c) {
+  real().source3f(source, param, a, b, c);
+  if (param == AL_POSITION) Shim::get().source_moved(source);
+}
+
+EARSHOT_EXPORT void alSourcefv(ALuint source, ALenum param, const ALfloat* values) {
+  real().sourcefv(source, param, values);
+  if (param == AL_POSITION) Shim::get().source_moved(source);
+}
+
+EARSHOT_EXPORT void alSourcePlay(ALuint source) {
+  Shim::get().source_playing(source);
+  real().source_play(source);
+}
+
+EARSHOT_EXPORT void alSourcePlayv(ALsizei n, const ALuint* sources) {
+  for (ALsizei i = 0; sources && i < n; ++i) Shim::get().source_playing(sources[i]);
+  real().source_playv(n, sources);
 }
 
 EARSHOT_EXPORT void alSourceQueueBuffers(ALuint source, ALsizei n, const ALuint* buffers) {
@@ -490,6 +576,10 @@ void* our_proc(std::string_view name) {
       {"alGetListener3i", reinterpret_cast<void*>(&alGetListener3i)},
       {"alGetListeneriv", reinterpret_cast<void*>(&alGetListeneriv)},
       {"alSourcei", reinterpret_cast<void*>(&alSourcei)},
+      {"alSource3f", reinterpret_cast<void*>(&alSource3f)},
+      {"alSourcefv", reinterpret_cast<void*>(&alSourcefv)},
+      {"alSourcePlay", reinterpret_cast<void*>(&alSourcePlay)},
+      {"alSourcePlayv", reinterpret_cast<void*>(&alSourcePlayv)},
       {"alSourceQueueBuffers", reinterpret_cast<void*>(&alSourceQueueBuffers)},
       {"alDeleteSources", reinterpret_cast<void*>(&alDeleteSources)},
       {"alcMakeContextCurrent", reinterpret_cast<void*>(&alcMakeContextCurrent)},

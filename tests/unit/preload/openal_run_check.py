@@ -16,7 +16,7 @@ Prints one line per run; exits 1 naming the program and condition that failed.
 
 usage: openal_run_check.py --launcher PATH --program pyglet|gst|gst-mono|mpg123
                            --work DIR --port N [--conditions none,0,60,-60]
-                           [--pyglet-script PATH] [--duration S]
+                           [--pyglet-script PATH] [--duration S] [--place MODE]
 """
 import argparse
 import os
@@ -137,7 +137,7 @@ def run(args, work, command, condition):
     env.pop("LD_PRELOAD", None)
     yaw = 60.0 if condition == "none" else float(condition)
     full = command if condition == "none" else \
-        [args.launcher, "--tracker", f"osc:{args.port}", "--"] + command
+        [args.launcher, "--tracker", f"osc:{args.port}"] + (["--place", args.place] if args.place else []) + ["--"] + command
     with PoseSender(args.port, yaw):
         p = subprocess.run(full, env=env, cwd=work, capture_output=True, text=True, timeout=RUN_TIMEOUT_S)
     if p.returncode != 0:
@@ -162,6 +162,7 @@ def main():
     ap.add_argument("--conditions", default="none,0,60,-60")
     ap.add_argument("--pyglet-script")
     ap.add_argument("--duration", type=float, default=1.5)
+    ap.add_argument("--place", choices=["none", "stereo", "all"], help="earshot-openal-run --place (default: its own)")
     ap.add_argument("--report-only", action="store_true", help="measure and print, check nothing")
     args = ap.parse_args()
     for tool in {"pyglet": [], "gst": ["gst-launch-1.0"], "gst-mono": ["gst-launch-1.0"],

@@ -17,14 +17,17 @@ set(preload_check /usr/bin/python3 ${preload_dir}/openal_run_check.py
 add_test(NAME preload_launcher_cli
   COMMAND ${CMAKE_COMMAND} -DLAUNCHER=$<TARGET_FILE:earshot-openal-run> -P ${preload_dir}/launcher_cli.cmake)
 
-# Quick: gstreamer's openalsink (a stereo stream) and a pyglet program (a
-# mono source ahead, which also reads its listener back), without the shim
-# and with the head turned 60 degrees left.
+# Quick: gstreamer's openalsink and mpg123 (stereo streams) and a pyglet
+# program (a mono source ahead, which also reads its listener back), without
+# the shim and with the head turned 60 degrees left.
 add_test(NAME preload_gst_turn
   COMMAND ${preload_check} --program gst --conditions none,60 --port 19241 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_gst_turn)
 add_test(NAME preload_pyglet_turn
   COMMAND ${preload_check} --program pyglet --conditions none,60 --port 19242 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_pyglet_turn)
-set_tests_properties(preload_launcher_cli preload_gst_turn preload_pyglet_turn PROPERTIES LABELS "unit;preload" TIMEOUT 60)
+add_test(NAME preload_mpg123_turn
+  COMMAND ${preload_check} --program mpg123 --conditions none,60 --port 19243 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_mpg123_turn)
+set_tests_properties(preload_launcher_cli preload_gst_turn preload_pyglet_turn preload_mpg123_turn
+  PROPERTIES LABELS "unit;preload" TIMEOUT 60)
 
 # Every program at head yaw 0, +60 and -60 against its no-shim baseline
 # (about 10 s each: four runs in real time).
@@ -34,4 +37,9 @@ add_test(NAME preload_gst_yaws
   COMMAND ${preload_check} --program gst --port 19252 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_gst_yaws)
 add_test(NAME preload_mpg123_yaws
   COMMAND ${preload_check} --program mpg123 --port 19253 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_mpg123_yaws)
-set_tests_properties(preload_pyglet_yaws preload_gst_yaws preload_mpg123_yaws PROPERTIES LABELS "slow;preload" TIMEOUT 180)
+# A mono stream that gstreamer plays at the listener follows the head only
+# with --place all (moved 1 m ahead into the room).
+add_test(NAME preload_gst_mono_yaws
+  COMMAND ${preload_check} --program gst-mono --place all --port 19254 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_gst_mono_yaws)
+set_tests_properties(preload_pyglet_yaws preload_gst_yaws preload_mpg123_yaws preload_gst_mono_yaws
+  PROPERTIES LABELS "slow;preload" TIMEOUT 180)

@@ -1,6 +1,7 @@
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/hrtf/ir_resampler.hpp"
 #include "dot.hpp"
+#include "sofa_precheck.hpp"
 
 #include <mysofa.h>
 
@@ -135,16 +136,23 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) bad(path, "file not found");
   if (!std::filesystem::is_regular_file(path, ec)) bad(path, "not a regular file");
-  if (std::filesystem::file_size(path, ec) == 0) bad(path, "empty file");
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes == 0) bad(path, "empty file");
+  if (bytes > kMaxFileBytes)
+    bad(path, "file of " + std::to_string(bytes) + " bytes, more than the " + std::to_string(kMaxFileBytes) +
+                  " a SOFA set is read from");
   if (!(sample_rate >= 8000.0 && sample_rate <= 192000.0))
     bad(path, "unsupported render rate " + std::to_string(sample_rate) + " Hz (8000-192000)");
   {
-    // SOFA is HDF5: check the signature before handing the file to libmysofa.
+    // SOFA is HDF5: check the signature, then the sizes its object headers
+    // declare (sofa_precheck.hpp), before handing the file to libmysofa.
     std::ifstream in(path, std::ios::binary);
-    std::array<char, 8> sig{};
-    in.read(sig.data(), sig.size());
-    static constexpr std::array<char, 8> kHdf5{'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-    if (!in || sig != kHdf5) bad(path, "not a SOFA file (no HDF5 signature)");
+    std::vector<std::uint8_t> file(static_cast<std::size_t>(bytes));
+    in.read(reinterpret_cast<char*>(file.data()), static_cast<std::streamsize>(file.size()));
+    static constexpr std::array<std::uint8_t, 8> kHdf5{0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+    if (!in || file.size() < kHdf5.size() || !std::equal(kHdf5.begin(), kHdf5.end(), file.begin()))
+      bad(path, "not a SOFA file (no HDF5 signature)");
+    if (const std::string p = detail::sofa_header_problem(file, kMaxSamples); !p.empty()) bad(path, p);
   }
   int err = 0;
   SofaPtr sofa(mysofa_load(path.c_str(), &err));
@@ -155,9 +163,21 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (!conv || std::strcmp(conv, "SimpleFreeFieldHRIR") != 0)
     bad(path, std::string("SOFA convention is '") + (conv ? conv : "(none)") +
                   "', expected 'SimpleFreeFieldHRIR'");
+  // The dimensions, before anything that grows with them (mysofa_check
+  // included: it walks the arrays).
+  if (h->R != 2) bad(path, "dimension R (receivers) is " + std::to_string(h->R) + ", expected 2 (two ears)");
+  if (h->E != 1) bad(path, "dimension E (emitters) is " + std::to_string(h->E) + ", expected 1");
+  if (h->M < 4) bad(path, "dimension M (measurements) is " + std::to_string(h->M) + ", fewer than 4");
+  if (h->M > kMaxMeasurements)
+    bad(path, "dimension M (measurements) is " + std::to_string(h->M) + ", more than " +
+                  std::to_string(kMaxMeasurements));
+  if (h->N == 0) bad(path, "dimension N (taps) is 0: empty impulse responses");
+  if (h->N > kMaxLength)
+    bad(path, "dimension N (taps) is " + std::to_string(h->N) + ", more than " + std::to_string(kMaxLength));
+  if (std::size_t{h->M} * h->R * h->N > kMaxSamples)
+    bad(path, "M x R x N = " + std::to_string(std::size_t{h->M} * h->R * h->N) + " samples, more than " +
+                  std::to_string(kMaxSamples));
   if ((err = mysofa_check(h)) != MYSOFA_OK) bad(path, mysofa_error_text(err));
-  if (h->R != 2) bad(path, "expected 2 receivers (ears), found " + std::to_string(h->R));
-  if (h->M < 4 || h->N == 0) bad(path, "too few measurements or empty impulse responses");
   if (h->DataSamplingRate.elements < 1) bad(path, "no Data.SamplingRate");
   // libmysofa checks the attributes, not that each array holds what the
   // dimensions say (found by fuzz_sofa: a Data.IR of one value for M x R x N).
@@ -183,6 +203,11 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     // sample serves every response (a fifth of the time), and Data.Delay is
     // left in the file's samples, rescaled once below (mysofa_resample
     // rescales it too, so it was scaled twice).
+    const std::size_t out_n = IrResampler::out_length_for(file_rate, sample_rate, h->N);
+    if (2 * M * out_n > kMaxSamples)
+      bad(path, "M x R x N at the render rate = " + std::to_string(2 * M * out_n) + " samples, more than " +
+                    std::to_string(kMaxSamples) + " (N = " + std::to_string(h->N) + " taps at " +
+                    std::to_string(file_rate) + " Hz become " + std::to_string(out_n) + ")");
     const IrResampler rs(file_rate, sample_rate, h->N);
     set.hrirs_.assign(2 * M * rs.out_length(), 0.0f);
     for (std::size_t i = 0; i < 2 * M; ++i)

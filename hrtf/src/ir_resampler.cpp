@@ -14,13 +14,17 @@ constexpr double kHalfLow = 32.0;    // kernel half-width in samples of the lowe
 constexpr double kBeta = 9.0;        // Kaiser shape: stopband near -90 dB
 }  // namespace
 
+std::size_t IrResampler::out_length_for(double from_hz, double to_hz, std::size_t in_length) {
+  return static_cast<std::size_t>(std::ceil(static_cast<double>(in_length) * to_hz / from_hz - 1e-9));
+}
+
 IrResampler::IrResampler(double from_hz, double to_hz, std::size_t in_length) : in_length_(in_length) {
   if (!(from_hz > 0.0) || !(to_hz > 0.0)) throw std::invalid_argument("IrResampler: rates must be positive");
   const double step = from_hz / to_hz;                 // input samples per output sample
   const double s = kPassband * std::min(1.0, 1.0 / step);  // cut-off in cycles per half input sample
   const double half = kHalfLow * std::max(1.0, step);  // kernel half-width in input samples
   taps_ = 2 * static_cast<std::size_t>(std::ceil(half));
-  const auto out_length = static_cast<std::size_t>(std::ceil(static_cast<double>(in_length) * to_hz / from_hz - 1e-9));
+  const std::size_t out_length = out_length_for(from_hz, to_hz, in_length);
   first_.resize(out_length);
   weights_.assign(out_length * taps_, 0.0f);
   std::vector<double> w(taps_);

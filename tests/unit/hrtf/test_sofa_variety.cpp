@@ -9,14 +9,19 @@
 #include <gtest/gtest.h>
 #include <mysofa.h>
 
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
+#include <initializer_list>
 #include <filesystem>
 #include <memory>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "earshot/errors.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/windowed_sinc.hpp"
 
@@ -118,5 +123,133 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"long_late_energy_late_onset", "--rate 48000 --length 8192 --onset-ms 40 --late --grid fibonacci:40",
                            48000.0}),
     [](const ::testing::TestParamInfo<Case>& i) { return std::string(i.param.name); });
+
+}  // namespace
+
+// The loader's size limits (HrtfSet::kMax*): a file just over each gets an
+// error naming the file and the dimension, before any work that grows with
+// it; one just under loads.
+namespace {
+
+/// Writes a set with make_sofa.py `args` into a fresh file named `name`.
+fs::path make_set(const std::string& name, const std::string& args) {
+  const fs::path dir = fs::temp_directory_path() / "earshot_sofa_limits";
+  fs::create_directories(dir);
+  const fs::path file = dir / (name + ".sofa");
+  const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out " + file.string() + " " + args;
+  if (std::system(cmd.c_str()) != 0) throw std::runtime_error("failed: " + cmd);
+  return file;
+}
+
+/// The error HrtfSet::load gives (empty when it loads).
+std::string load_error(const fs::path& file, double rate) {
+  try {
+    (void)HrtfSet::load(file, rate);
+  } catch (const earshot::InputError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST(SofaLimits, MeasurementsJustOverAreRefusedJustUnderLoad) {
+  // 8 directions measured 2500 times (repeats are legal and cheap to triangulate).
+  const fs::path under = make_set("m_under", "--length 8 --grid fibonacci:8 --repeat 2500 --compress");
+  ASSERT_EQ(HrtfSet::kMaxMeasurements, 20000u);
+  EXPECT_EQ(load_error(under, 48000.0), "");
+  EXPECT_EQ(HrtfSet::load(under, 48000.0).measurement_count(), 20000u);
+  const fs::path over = make_set("m_over", "--length 8 --grid fibonacci:3 --repeat 6667 --compress");  // 20001
+  const std::string e = load_error(over, 48000.0);
+  EXPECT_NE(e.find(over.string()), std::string::npos) << e;
+  EXPECT_NE(e.find("dimension M (measurements) is 20001, more than 20000"), std::string::npos) << e;
+}
+
+TEST(SofaLimits, LengthJustOverIsRefusedJustUnderLoads) {
+  ASSERT_EQ(HrtfSet::kMaxLength, 65536u);
+  const fs::path under = make_set("n_under", "--rate 192000 --length 65536 --grid fibonacci:6 --compress");
+  EXPECT_EQ(load_error(under, 192000.0), "");
+  const fs::path over = make_set("n_over", "--rate 192000 --length 65537 --grid fibonacci:6 --compress");
+  const std::string e = load_error(over, 192000.0);
+  EXPECT_NE(e.find(over.string()), std::string::npos) << e;
+  EXPECT_NE(e.find("dimension N (taps) is 65537, more than 65536"), std::string::npos) << e;
+}
+
+TEST(SofaLimits, SamplesAtTheRenderRateJustOverAreRefused) {
+  // 11 x 2 x 65536 taps at 8 kHz are 1.4M samples; at 192 kHz 24 times as
+  // many, just over 2^25 (10 directions would be just under).
+  const fs::path file = make_set("total", "--rate 8000 --length 65536 --grid fibonacci:11 --compress");
+  const std::string e = load_error(file, 192000.0);
+  EXPECT_NE(e.find(file.string()), std::string::npos) << e;
+  EXPECT_NE(e.find("M x R x N at the render rate"), std::string::npos) << e;
+  EXPECT_NE(e.find("more than 33554432"), std::string::npos) << e;
+  EXPECT_EQ(load_error(file, 8000.0), "");
+}
+
+TEST(SofaLimits, ThreeReceiversAreRefused) {
+  const fs::path file = make_set("r3", "--length 16 --grid fibonacci:8 --extra-receiver");
+  const std::string e = load_error(file, 48000.0);
+  EXPECT_NE(e.find(file.string()), std::string::npos) << e;
+  EXPECT_NE(e.find("dimension R (receivers) is 3, expected 2"), std::string::npos) << e;
+}
+
+}  // namespace
+
+// What made one fuzz input load for minutes: an attribute whose dataspace
+// declares ~7e13 elements, which libmysofa reads one by one (seeking past
+// the end of the file each time). The look at the headers before libmysofa
+// (hrtf/src/sofa_precheck.hpp) refuses it; here on a minimal HDF5 file laid
+// out by the specification: superblock v2, one object header holding one
+// message (an attribute of a 1-byte integer, or a dataset's dataspace).
+#include "../../../hrtf/src/sofa_precheck.hpp"
+
+namespace {
+
+std::vector<std::uint8_t> one_message_file(bool attribute, std::uint64_t dim) {
+  // Signature, superblock version 2, 8-byte offsets and lengths, flags; then
+  // the base, extension, end-of-file and root addresses and the checksum.
+  std::vector<std::uint8_t> f(48, 0);
+  const std::array<int, 12> head{0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n', 2, 8, 8, 0};
+  for (std::size_t i = 0; i < head.size(); ++i) f[i] = static_cast<std::uint8_t>(head[i]);
+  const auto put = [&](std::uint64_t v, int bytes) {
+    for (int i = 0; i < bytes; ++i) f.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
+  std::vector<std::uint8_t> body;
+  const auto add = [&body](std::initializer_list<int> bytes) {
+    for (int v : bytes) body.push_back(static_cast<std::uint8_t>(v));
+  };
+  if (attribute) {
+    add({3, 0, 2, 0, 12, 0, 12, 0, 0, 'a', 0});             // version 3, name "a", encoding
+    add({0x10, 0, 0, 0, 1, 0, 0, 0, 0, 0, 8, 0});           // an 8-bit integer
+  }
+  add({2, 1, 0, 1});  // dataspace version 2, rank 1, no maximum sizes, simple
+  for (int i = 0; i < 8; ++i) body.push_back(static_cast<std::uint8_t>(dim >> (8 * i)));
+  for (char c : {'O', 'H', 'D', 'R'}) f.push_back(static_cast<std::uint8_t>(c));
+  put(2, 1), put(0, 1), put(body.size() + 4 + 4, 1);  // version, flags, chunk size
+  put(attribute ? 12 : 1, 1), put(body.size(), 2), put(0, 1);
+  for (std::uint8_t v : body) f.push_back(v);
+  put(0, 4), put(0, 4);  // gap, checksum
+  return f;
+}
+
+TEST(SofaHeaderCheck, AttributeDeclaringHugeDataspaceIsRefused) {
+  using earshot::hrtf::detail::sofa_header_problem;
+  EXPECT_EQ(sofa_header_problem(one_message_file(true, 4), 1000), "");
+  const std::string p = sofa_header_problem(one_message_file(true, std::uint64_t{1} << 40), 1000);
+  EXPECT_NE(p.find("an attribute's dataspace"), std::string::npos) << p;
+  EXPECT_NE(p.find("1099511627776 elements, more than 4096"), std::string::npos) << p;
+}
+
+TEST(SofaHeaderCheck, DatasetOverTheSampleLimitIsRefused) {
+  using earshot::hrtf::detail::sofa_header_problem;
+  EXPECT_EQ(sofa_header_problem(one_message_file(false, 1000), 1000), "");
+  const std::string p = sofa_header_problem(one_message_file(false, 1001), 1000);
+  EXPECT_NE(p.find("a dataset's dataspace"), std::string::npos) << p;
+  EXPECT_NE(p.find("1001 elements, more than 1000"), std::string::npos) << p;
+}
+
+TEST(SofaHeaderCheck, DataspaceCutByTheEndOfTheFileIsRefused) {
+  auto f = one_message_file(true, 4);
+  f.resize(f.size() - 12);  // the dimension's last bytes, the gap and checksum
+  EXPECT_NE(earshot::hrtf::detail::sofa_header_problem(f, 1000).find("runs past the end"), std::string::npos);
+}
 
 }  // namespace

@@ -33,6 +33,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -85,10 +87,27 @@ class HrtfSet {
   /// The MIT KEMAR set installed by Debian's libmysofa1.
   static constexpr const char* kDefaultPath = "/usr/share/libmysofa/MIT_KEMAR_normal_pinna.sofa";
 
+  // What the loader accepts, checked before any work that grows with them
+  // (the real databases sit well inside: ARI 1550 and CIPIC 1250
+  // directions, SADIE II 8802, FABIAN 11950, the densest simulated grids
+  // 16-65k; 32-2048 taps, long room-like sets 8192 at 48 kHz = 0.17 s).
+  /// Measurements (M). Also what the triangulation (quadratic in M at load)
+  /// finishes in seconds.
+  static constexpr std::size_t kMaxMeasurements = 20000;
+  /// Taps per response (N) at the file's rate: 0.34 s at 192 kHz.
+  static constexpr std::size_t kMaxLength = 65536;
+  /// Samples in the whole set (M x 2 x N), at the file's rate and again at
+  /// the render rate: 2^25, 128 MB as float (11950 x 2 x 1404, or 2048
+  /// directions of 8192 taps).
+  static constexpr std::size_t kMaxSamples = std::size_t{1} << 25;
+  /// File size: 1 GiB (the largest set above as doubles is under 300 MB).
+  static constexpr std::uintmax_t kMaxFileBytes = std::uintmax_t{1} << 30;
+
   /// Loads a SOFA file of the SimpleFreeFieldHRIR convention and resamples
   /// it to `sample_rate` (8-192 kHz). Throws earshot::InputError naming the
   /// file and the problem (missing, not SOFA, truncated, other convention,
-  /// not two ears, unsupported rate).
+  /// not two ears (R must be 2) and one emitter (E = 1), unsupported rate,
+  /// a size beyond the limits above, naming the dimension).
   [[nodiscard]] static HrtfSet load(const std::filesystem::path& sofa, double sample_rate);
   [[nodiscard]] static HrtfSet load_default(double sample_rate) { return load(kDefaultPath, sample_rate); }
 

@@ -25,6 +25,9 @@ class IrResampler {
 
   [[nodiscard]] std::size_t in_length() const { return in_length_; }
   [[nodiscard]] std::size_t out_length() const { return first_.size(); }
+  /// What out_length() will be, without building the kernels (callers
+  /// bound it first: the kernels take time and memory in proportion).
+  [[nodiscard]] static std::size_t out_length_for(double from_hz, double to_hz, std::size_t in_length);
 
   /// Resamples one response: `in` holds in_length() samples, `out`
   /// out_length(). Does not allocate.

@@ -27,4 +27,21 @@ set(ENV{LD_PRELOAD} "/earshot-test-before.so")  # ld.so says it cannot load it a
 run(0 --tracker sim --place none -- sh -c
     "echo \"$LD_PRELOAD\" | grep -q '/libearshot_openal_preload.so /earshot-test-before.so$' && test \"$EARSHOT_OPENAL_TRACKER\" = sim && test \"$EARSHOT_OPENAL_PLACE\" = none")
 run(7 -- sh -c "exit 7")
+# A tracker that cannot start: the shim says why and the program plays on
+# (an OpenAL program on OpenAL Soft's wave backend; needs gst-launch-1.0).
+find_program(GST gst-launch-1.0)
+if(GST AND WORK)
+  file(MAKE_DIRECTORY ${WORK})
+  file(WRITE ${WORK}/alsoft.conf "[general]\ndrivers = wave\nhrtf = true\n[wave]\nfile = ${WORK}/out.wav\n")
+  set(ENV{ALSOFT_CONF} ${WORK}/alsoft.conf)
+  set(ENV{ALSOFT_DRIVERS} wave)
+  set(ENV{LD_PRELOAD} "")
+  run(0 --tracker replay:${WORK}/no-such-recording.csv -- ${GST} -q audiotestsrc num-buffers=5 ! openalsink)
+  if(NOT err MATCHES "earshot-openal-run: cannot start the tracker \"replay:[^\"]*no-such-recording.csv\": .*playing on without head tracking")
+    message(FATAL_ERROR "no clear message for a tracker that cannot start: ${err}")
+  endif()
+  if(NOT EXISTS ${WORK}/out.wav)
+    message(FATAL_ERROR "the program did not play (no ${WORK}/out.wav)")
+  endif()
+endif()
 message(STATUS "earshot-openal-run: help, missing program, bad spec, environment and exit codes as expected")

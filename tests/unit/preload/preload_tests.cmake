@@ -13,9 +13,11 @@ set(preload_check /usr/bin/python3 ${preload_dir}/openal_run_check.py
     --launcher $<TARGET_FILE:earshot-openal-run> --pyglet-script ${preload_dir}/pyglet_sources.py)
 
 # The launcher's command line: help with an example, 127 for a missing
-# program, 2 for a bad tracker spec, the program's own exit code passed on.
+# program, 2 for a bad tracker spec, the program's own exit code passed on;
+# a tracker that cannot start is named and the program plays on.
 add_test(NAME preload_launcher_cli
-  COMMAND ${CMAKE_COMMAND} -DLAUNCHER=$<TARGET_FILE:earshot-openal-run> -P ${preload_dir}/launcher_cli.cmake)
+  COMMAND ${CMAKE_COMMAND} -DLAUNCHER=$<TARGET_FILE:earshot-openal-run> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/preload_launcher_cli
+          -P ${preload_dir}/launcher_cli.cmake)
 
 # Quick: gstreamer's openalsink and mpg123 (stereo streams) and a pyglet
 # program (a mono source ahead, which also reads its listener back), without

@@ -31,6 +31,19 @@ add_test(NAME preload_mpg123_turn
 set_tests_properties(preload_launcher_cli preload_gst_turn preload_pyglet_turn preload_mpg123_turn
   PROPERTIES LABELS "unit;preload" TIMEOUT 60)
 
+# Our own OpenAL program on the loopback device (preload_probe.cpp): a
+# thread-local context, read-back, contexts destroyed while poses arrive, a
+# device closed under a live context. Without the shim it must fail where
+# the head turn is not heard.
+pkg_check_modules(OPENAL_PRELOAD_TESTS REQUIRED IMPORTED_TARGET openal)
+add_executable(preload_probe preload/preload_probe.cpp)
+target_link_libraries(preload_probe PRIVATE PkgConfig::OPENAL_PRELOAD_TESTS earshot_warnings)
+add_test(NAME preload_probe COMMAND earshot-openal-run --tracker osc:19245 -- $<TARGET_FILE:preload_probe> 19245)
+add_test(NAME preload_probe_without_shim COMMAND preload_probe 19246)
+set_tests_properties(preload_probe_without_shim PROPERTIES
+  PASS_REGULAR_EXPRESSION "ILD [-+0-9.]+ dB never passed -6.0+ dB: the listener did not follow the head")
+set_tests_properties(preload_probe preload_probe_without_shim PROPERTIES LABELS "unit;preload" TIMEOUT 60)
+
 # Every program at head yaw 0, +60 and -60 against its no-shim baseline
 # (about 10 s each: four runs in real time).
 add_test(NAME preload_pyglet_yaws

@@ -177,8 +177,6 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (std::size_t{h->M} * h->R * h->N > kMaxSamples)
     bad(path, "M x R x N = " + std::to_string(std::size_t{h->M} * h->R * h->N) + " samples, more than " +
                   std::to_string(kMaxSamples));
-  if ((err = mysofa_check(h)) != MYSOFA_OK) bad(path, mysofa_error_text(err));
-  if (h->DataSamplingRate.elements < 1) bad(path, "no Data.SamplingRate");
   // libmysofa checks the attributes, not that each array holds what the
   // dimensions say (found by fuzz_sofa: a Data.IR of one value for M x R x N).
   const auto holds = [](const MYSOFA_ARRAY& a, std::size_t n) { return a.values && a.elements == n; };
@@ -188,16 +186,67 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (!holds(h->SourcePosition, std::size_t{h->M} * 3))
     bad(path, "SourcePosition holds " + std::to_string(h->SourcePosition.elements) + " values, not M x 3 = " +
                   std::to_string(std::size_t{h->M} * 3));
+  err = mysofa_check(h);
+  float* ears = h->ReceiverPosition.values;
+  if (err == MYSOFA_INVALID_RECEIVER_POSITIONS && h->ReceiverPosition.elements >= 6 && ears[1] < 0.0f &&
+      ears[4] > 0.0f) {
+    // Receiver 0 is the right ear (SOFA's y points left): swap the ears,
+    // their positions, responses and delays, so receiver 0 is the left one
+    // as libmysofa and everything below expect. (libmysofa itself accepts
+    // y < 0 only from old versions of the ARI API, which wrote the ears'
+    // positions the wrong way round but their data left first; those pass
+    // the check above untouched.)
+    for (std::size_t c = 0; c < 3; ++c) std::swap(ears[c], ears[3 + c]);
+    for (std::size_t m = 0; m < h->M; ++m)
+      std::swap_ranges(h->DataIR.values + 2 * m * h->N, h->DataIR.values + (2 * m + 1) * h->N,
+                       h->DataIR.values + (2 * m + 1) * h->N);
+    if (h->DataDelay.values && (h->DataDelay.elements == 2 || h->DataDelay.elements == 2 * std::size_t{h->M}))
+      for (std::size_t i = 0; i < h->DataDelay.elements; i += 2) std::swap(h->DataDelay.values[i], h->DataDelay.values[i + 1]);
+    err = mysofa_check(h);
+  }
+  if (err == MYSOFA_INVALID_RECEIVER_POSITIONS)
+    bad(path, "ReceiverPosition must hold the two ears at (0, a, 0) and (0, -a, 0) (metres, y to the left), "
+              "in either order");
+  if (err != MYSOFA_OK) bad(path, mysofa_error_text(err));
+  if (h->DataSamplingRate.elements < 1) bad(path, "no Data.SamplingRate");
   const double file_rate = h->DataSamplingRate.values[0];
   if (!(file_rate >= 8000.0 && file_rate <= 192000.0))
     bad(path, "unsupported sampling rate " + std::to_string(file_rate) + " Hz in the file");
   mysofa_tocartesian(h);
 
+  for (std::size_t i = 0; i < std::size_t{h->R} * h->M * h->N; ++i)
+    if (!std::isfinite(h->DataIR.values[i])) bad(path, "impulse responses hold non-finite samples");
+  // A set measured at several distances: the farthest shell is used (the
+  // nearest to the far field the renderer models; its own distance cue is
+  // the propagation delay and level a scene gives). Shells are told apart
+  // by a gap of more than 10% between sorted radii, so a single distance
+  // measured with some scatter stays one shell.
+  std::vector<std::uint32_t> keep;  // the measurements used, in file order
+  {
+    std::vector<double> radius(h->M);
+    for (std::size_t m = 0; m < h->M; ++m) {
+      const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
+      radius[m] = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+      if (!(radius[m] > 0.0) || !std::isfinite(radius[m]))
+        bad(path, "source position " + std::to_string(m) + " is not a direction");
+    }
+    std::vector<double> sorted = radius;
+    std::sort(sorted.begin(), sorted.end());
+    double inner = sorted.front();  // the farthest shell's nearest radius
+    for (std::size_t i = 1; i < sorted.size(); ++i)
+      if (sorted[i] > 1.1 * sorted[i - 1]) inner = sorted[i];
+    for (std::uint32_t m = 0; m < h->M; ++m)
+      if (radius[m] >= inner) keep.push_back(m);
+  }
+  if (keep.size() < 4)
+    bad(path, "the farthest measurement distance has " + std::to_string(keep.size()) + " measurements, fewer than 4");
+
   HrtfSet set;
   set.rate_ = sample_rate;
-  const std::size_t M = h->M;
-  for (std::size_t i = 0; i < 2 * M * h->N; ++i)
-    if (!std::isfinite(h->DataIR.values[i])) bad(path, "impulse responses hold non-finite samples");
+  const std::size_t M = keep.size();
+  const auto file_ir = [&](std::size_t i) {  // response i = 2 m + ear of the kept ones
+    return std::span<const float>(h->DataIR.values + (2 * std::size_t{keep[i / 2]} + i % 2) * h->N, h->N);
+  };
   if (std::abs(file_rate - sample_rate) > 0.5) {
     // Our own resampler rather than mysofa_resample: one kernel per output
     // sample serves every response (a fifth of the time), and Data.Delay is
@@ -211,11 +260,11 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     const IrResampler rs(file_rate, sample_rate, h->N);
     set.hrirs_.assign(2 * M * rs.out_length(), 0.0f);
     for (std::size_t i = 0; i < 2 * M; ++i)
-      rs.process(std::span<const float>(h->DataIR.values + i * h->N, h->N),
-                 std::span<float>(set.hrirs_.data() + i * rs.out_length(), rs.out_length()));
+      rs.process(file_ir(i), std::span<float>(set.hrirs_.data() + i * rs.out_length(), rs.out_length()));
     set.length_ = rs.out_length();
   } else {
-    set.hrirs_.assign(h->DataIR.values, h->DataIR.values + 2 * M * h->N);
+    set.hrirs_.reserve(2 * M * h->N);
+    for (std::size_t i = 0; i < 2 * M; ++i) set.hrirs_.insert(set.hrirs_.end(), file_ir(i).begin(), file_ir(i).end());
     set.length_ = h->N;
   }
   const std::size_t N = set.length_;
@@ -228,7 +277,7 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     std::size_t front = 0;
     double best = -2.0;
     for (std::size_t m = 0; m < M; ++m) {
-      const float* p = h->SourcePosition.values + 3 * m;
+      const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};
       const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
       if (r > 0.0 && p[0] / r > best) best = p[0] / r, front = m;
     }
@@ -240,10 +289,9 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   set.delays_.resize(M);
   std::vector<Vec3> unit(M);
   for (std::size_t m = 0; m < M; ++m) {
-    const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
+    const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};  // x front, y left, z up
     const double x = p[0], y = p[1], z = p[2];
-    const double r = std::sqrt(x * x + y * y + z * z);
-    if (!(r > 0.0) || !std::isfinite(r)) bad(path, "source position " + std::to_string(m) + " is not a direction");
+    const double r = std::sqrt(x * x + y * y + z * z);  // > 0, checked above
     unit[m] = {x / r, y / r, z / r};
     set.dirs_[m] = {std::atan2(y, x), std::asin(z / r)};
   }
@@ -251,7 +299,7 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   auto file_delay = [&](std::size_t m, std::size_t ear) -> double {
     const auto& d = h->DataDelay;
     if (d.elements == 2) return d.values[ear] * sample_rate / file_rate;
-    if (d.elements == 2 * M) return d.values[2 * m + ear] * sample_rate / file_rate;
+    if (d.elements == 2 * std::size_t{h->M}) return d.values[2 * std::size_t{keep[m]} + ear] * sample_rate / file_rate;
     return 0.0;
   };
   // Each ear's filter is its HRIR read from `margin` samples before its

@@ -27,6 +27,12 @@
 // Level: the whole set is scaled so that white noise from straight ahead
 // keeps its level (the frontal HRIRs' mean ear energy is 1).
 //
+// What the file holds: sets measured at several distances use the farthest
+// shell only (shells: radii separated by gaps of more than 10%; the others
+// are dropped, so measurement_count() counts that shell). Receiver 0 may be
+// either ear: ReceiverPosition's y (to the left) says which, and a set with
+// the right ear first is swapped on load.
+//
 // Conventions: SOFA's. Azimuth counter-clockwise from the front (pi/2 =
 // left), elevation up, radians. Delays in seconds.
 #pragma once

@@ -49,7 +49,8 @@ ctest --test-dir build/asan -L fuzz --output-on-failure -j "$jobs"
 stage "TSan build (threaded tests, label threads)"
 cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
-cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests hrtf_cache_tests
+cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests hrtf_cache_tests \
+  lv2_core_tests lv2_plugin_tests
 stage "TSan tests"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L threads
 echo "== ${stage_name} took $((SECONDS - stage_start)) s"

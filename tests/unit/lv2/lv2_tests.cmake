@@ -14,6 +14,15 @@ target_compile_definitions(lv2_plugin_tests PRIVATE EARSHOT_LV2_BUNDLE="${EARSHO
   EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 add_dependencies(lv2_plugin_tests earshot_lv2_bundle)
 
+# State saved and restored by lilv, the host library under jalv and lv2apply.
+pkg_check_modules(LILV_TESTS REQUIRED IMPORTED_TARGET lilv-0)
+earshot_unit_test(lv2_state_tests
+  SOURCES lv2/test_lv2_lilv_state.cpp
+  LIBS PkgConfig::LILV_TESTS PkgConfig::LV2)
+target_compile_definitions(lv2_state_tests PRIVATE EARSHOT_LV2_BUNDLE="${EARSHOT_LV2_BUNDLE}"
+  EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py" EARSHOT_WORK="${CMAKE_CURRENT_BINARY_DIR}/lv2_state")
+add_dependencies(lv2_state_tests earshot_lv2_bundle)
+
 # Real LV2 hosts: lilv's lv2apply against `earshot render` (cue table), and
 # jalv in real time on JACK's dummy driver (tests/unit/lv2/test_lv2_jalv.cpp).
 # Not in sanitizer trees: the hosts are not instrumented, so they cannot

@@ -2,13 +2,27 @@
 # openalsink, mpg123 -o openal), OpenAL Soft's wave backend capturing what
 # they play (tests/unit/preload/openal_run_check.py; docs/OPENAL_RUN.md).
 # Included from tests/unit/CMakeLists.txt.
-#
-# Not under sanitizers: the shim is preloaded into uninstrumented programs
-# (python3, gst-launch-1.0), where an instrumented library cannot load.
+set(preload_dir ${CMAKE_CURRENT_SOURCE_DIR}/preload)
+
+# Our own OpenAL program on the loopback device (preload_probe.cpp): a
+# thread-local context, read-back, contexts destroyed while poses arrive, a
+# device closed under a live context. Without the shim it must fail where
+# the head turn is not heard.
+pkg_check_modules(OPENAL_PRELOAD_TESTS REQUIRED IMPORTED_TARGET openal)
+add_executable(preload_probe preload/preload_probe.cpp)
+target_link_libraries(preload_probe PRIVATE PkgConfig::OPENAL_PRELOAD_TESTS earshot_warnings)
+add_test(NAME preload_probe COMMAND earshot-openal-run --tracker osc:19245 -- $<TARGET_FILE:preload_probe> 19245)
+add_test(NAME preload_probe_without_shim COMMAND preload_probe 19246)
+set_tests_properties(preload_probe_without_shim PROPERTIES
+  PASS_REGULAR_EXPRESSION "ILD [-+0-9.]+ dB never passed -6.0+ dB: the listener did not follow the head")
+set_tests_properties(preload_probe preload_probe_without_shim PROPERTIES LABELS "unit;preload" TIMEOUT 60)
+
+# The rest preloads the shim into uninstrumented programs (python3,
+# gst-launch-1.0, mpg123), where a sanitized library cannot load: not under
+# sanitizers (the probe above runs there: it is instrumented itself).
 if(EARSHOT_SANITIZE)
   return()
 endif()
-set(preload_dir ${CMAKE_CURRENT_SOURCE_DIR}/preload)
 set(preload_check /usr/bin/python3 ${preload_dir}/openal_run_check.py
     --launcher $<TARGET_FILE:earshot-openal-run> --pyglet-script ${preload_dir}/pyglet_sources.py)
 
@@ -30,19 +44,6 @@ add_test(NAME preload_mpg123_turn
   COMMAND ${preload_check} --program mpg123 --conditions none,60 --port 19243 --work ${CMAKE_CURRENT_BINARY_DIR}/preload_mpg123_turn)
 set_tests_properties(preload_launcher_cli preload_gst_turn preload_pyglet_turn preload_mpg123_turn
   PROPERTIES LABELS "unit;preload" TIMEOUT 60)
-
-# Our own OpenAL program on the loopback device (preload_probe.cpp): a
-# thread-local context, read-back, contexts destroyed while poses arrive, a
-# device closed under a live context. Without the shim it must fail where
-# the head turn is not heard.
-pkg_check_modules(OPENAL_PRELOAD_TESTS REQUIRED IMPORTED_TARGET openal)
-add_executable(preload_probe preload/preload_probe.cpp)
-target_link_libraries(preload_probe PRIVATE PkgConfig::OPENAL_PRELOAD_TESTS earshot_warnings)
-add_test(NAME preload_probe COMMAND earshot-openal-run --tracker osc:19245 -- $<TARGET_FILE:preload_probe> 19245)
-add_test(NAME preload_probe_without_shim COMMAND preload_probe 19246)
-set_tests_properties(preload_probe_without_shim PROPERTIES
-  PASS_REGULAR_EXPRESSION "ILD [-+0-9.]+ dB never passed -6.0+ dB: the listener did not follow the head")
-set_tests_properties(preload_probe preload_probe_without_shim PROPERTIES LABELS "unit;preload" TIMEOUT 60)
 
 # Every program at head yaw 0, +60 and -60 against its no-shim baseline
 # (about 10 s each: four runs in real time).

@@ -10,9 +10,14 @@
 //   3. contexts destroyed and created while poses keep arriving (the
 //      tracker thread must never touch a destroyed one), then a
 //      process-wide context, follow the head the other way;
-//   4. a device closed with its context still alive (OpenAL Soft destroys it).
+//   4. the head's offset is turned with the program's listener (p + P h):
+//      the program looks along -x at a source 1 m away, the head moves 0.5 m
+//      to the listener's right (world -z), so the source is heard on the left;
+//   5. a device closed with its context still alive (OpenAL Soft destroys it).
+// With "recenter" (under --recenter-after), the head stays turned left but
+// the source comes back ahead once the recenter has happened.
 // Exits 0 and says "probe ok", or 1 naming the step that failed.
-// usage: preload_probe PORT
+// usage: preload_probe PORT [recenter]
 #define AL_ALEXT_PROTOTYPES
 #include <AL/al.h>
 #include <AL/alc.h>
@@ -27,6 +32,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <initializer_list>
 #include <string>
 #include <thread>
 #include <vector>
@@ -54,16 +60,18 @@ class PoseSender {
   PoseSender(const PoseSender&) = delete;
   PoseSender& operator=(const PoseSender&) = delete;
 
-  void send_yaw(float yaw_deg) const {
+  void send_yaw(float yaw_deg) const { send("/earshot/ypr", {yaw_deg, 0.0f, 0.0f}); }
+
+  void send(const char* address, std::initializer_list<float> args) const {
     std::vector<unsigned char> m;
     auto str = [&](const char* s) {
       const std::size_t n = std::strlen(s);
       m.insert(m.end(), s, s + n);
       m.resize(m.size() + 4 - n % 4, 0);
     };
-    str("/earshot/ypr");
-    str(",fff");
-    for (float f : {yaw_deg, 0.0f, 0.0f}) {
+    str(address);
+    str((std::string(",") + std::string(args.size(), 'f')).c_str());
+    for (float f : args) {
       std::uint32_t u;
       std::memcpy(&u, &f, 4);
       u = htonl(u);
@@ -150,7 +158,7 @@ double turn_until(const PoseSender& poses, ALCdevice* device, float yaw, double 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) fail("usage: preload_probe PORT");
+  if (argc != 2 && !(argc == 3 && std::string(argv[2]) == "recenter")) fail("usage: preload_probe PORT [recenter]");
   const PoseSender poses(std::atoi(argv[1]));
   ALCdevice* device = alcLoopbackOpenDeviceSOFT(nullptr);
   if (!device) fail("no loopback device");
@@ -167,6 +175,20 @@ int main(int argc, char** argv) {
   const double straight = ild(device);
   if (std::abs(straight) > 1) fail("head straight: ILD " + std::to_string(straight) + " dB, expected about 0");
   const double left = turn_until(poses, device, 60, -6);
+  if (argc == 3) {  // recenter: the same pose keeps coming, the sound returns ahead
+    double now = left;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+    while (std::chrono::steady_clock::now() < end && std::abs(now) > 1) {
+      poses.send_yaw(60);
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      now = ild(device);
+    }
+    if (std::abs(now) > 1) fail("recenter: ILD " + std::to_string(now) + " dB, the turned head did not become neutral");
+    std::printf("probe ok: head left %+.2f dB, after the recenter %+.2f dB\n", left, now);
+    destroy_scene(a);
+    alcCloseDevice(device);
+    return 0;
+  }
 
   // 2. The program reads back what it set, not the turned listener.
   float position[3], orientation[6];
@@ -186,7 +208,21 @@ int main(int argc, char** argv) {
   Scene b = make_scene(device, false);  // process-wide
   const double right = turn_until(poses, device, -60, 6);
 
-  // 4. The device closed with its context alive; poses keep coming.
+  // 4. The head's offset in the program's listener frame.
+  const float looking_left[6] = {-1, 0, 0, 0, 1, 0};
+  alListenerfv(AL_ORIENTATION, looking_left);
+  alSource3f(b.source, AL_POSITION, -1, 0, 0);
+  double offset = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  while (std::chrono::steady_clock::now() < end && offset < 3) {
+    poses.send("/earshot/pose/ypr", {0.5f, 0, 0, 0, 0, 0});
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    offset = ild(device);
+  }
+  if (offset < 3) fail("head 0.5 m right of a listener looking along -x: ILD " + std::to_string(offset) +
+                       " dB, expected the source on the left (> +3 dB)");
+
+  // 5. The device closed with its context alive; poses keep coming.
   alcMakeContextCurrent(nullptr);
   alcCloseDevice(device);
   for (int i = 0; i < 10; ++i) {
@@ -194,6 +230,7 @@ int main(int argc, char** argv) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   (void)b;
-  std::printf("probe ok: ILD straight %+.2f dB, head left %+.2f dB, head right %+.2f dB\n", straight, left, right);
+  std::printf("probe ok: ILD straight %+.2f dB, head left %+.2f dB, head right %+.2f dB, head moved right %+.2f dB\n",
+              straight, left, right, offset);
   return 0;
 }

@@ -5,17 +5,21 @@
 set(preload_dir ${CMAKE_CURRENT_SOURCE_DIR}/preload)
 
 # Our own OpenAL program on the loopback device (preload_probe.cpp): a
-# thread-local context, read-back, contexts destroyed while poses arrive, a
-# device closed under a live context. Without the shim it must fail where
+# thread-local context, read-back, contexts destroyed while poses arrive,
+# the head's offset in the listener's frame, a device closed under a live
+# context, --recenter-after. Without the shim it must fail where
 # the head turn is not heard.
 pkg_check_modules(OPENAL_PRELOAD_TESTS REQUIRED IMPORTED_TARGET openal)
 add_executable(preload_probe preload/preload_probe.cpp)
 target_link_libraries(preload_probe PRIVATE PkgConfig::OPENAL_PRELOAD_TESTS earshot_warnings)
 add_test(NAME preload_probe COMMAND earshot-openal-run --tracker osc:19245 -- $<TARGET_FILE:preload_probe> 19245)
 add_test(NAME preload_probe_without_shim COMMAND preload_probe 19246)
+add_test(NAME preload_probe_recenter
+  COMMAND earshot-openal-run --tracker osc:19247 --recenter-after 1 -- $<TARGET_FILE:preload_probe> 19247 recenter)
 set_tests_properties(preload_probe_without_shim PROPERTIES
   PASS_REGULAR_EXPRESSION "ILD [-+0-9.]+ dB never passed -6.0+ dB: the listener did not follow the head")
-set_tests_properties(preload_probe preload_probe_without_shim PROPERTIES LABELS "unit;preload" TIMEOUT 60)
+set_tests_properties(preload_probe preload_probe_without_shim preload_probe_recenter
+  PROPERTIES LABELS "unit;preload" TIMEOUT 60)
 
 # The rest preloads the shim into uninstrumented programs (python3,
 # gst-launch-1.0, mpg123), where a sanitized library cannot load: not under

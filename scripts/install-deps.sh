@@ -32,7 +32,7 @@ packages=(
   lilv-utils jalv        # real LV2 hosts in the tests: lv2apply, lv2bench, jalv on JACK
   liblilv-dev            # lilv, the host library of jalv and lv2apply: the plugin's state saved and restored by it (tests)
   liblo-tools            # oscsend: an outside OSC sender in the pose-input tests
-  python3-pyglet mpg123 gstreamer1.0-tools gstreamer1.0-plugins-bad   # unmodified OpenAL programs for earshot-openal-run's tests
+  python3-pyglet mpg123 gstreamer1.0-tools gstreamer1.0-plugins-bad gstreamer1.0-plugins-good   # unmodified OpenAL programs for earshot-openal-run's tests (good: lamemp3enc writes their MP3)
 )
 
 missing=()

@@ -9,8 +9,9 @@
  * effects are untouched.
  *
  * Poses come from a live tracker started by the bridge (the same specs as
- * esAttachTracker: "wiimote", "sim", "replay:DOTS.csv", "opentrack[:PORT]",
- * "osc[:PORT]") or from the application (esalBridgeSetHeadPose: its own
+ * esAttachTracker: "wiimote", "sim", "replay:DOTS.csv", "opentrack[:PORT][@ADDR]",
+ * "osc[:PORT][@ADDR]"; UDP inputs listen on 127.0.0.1 unless @ADDR says
+ * otherwise) or from the application (esalBridgeSetHeadPose: its own
  * tracker, a recording).
  *
  * Threads: one bridge is used from one thread, the one that owns the

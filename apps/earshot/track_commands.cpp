@@ -40,6 +40,7 @@ struct SimulateOptions {
   SimulatorConfig sim;
   long frames = 10000;
   std::string pixels = "integer";
+  std::string motion = "walk";
   std::string out;
 };
 
@@ -104,13 +105,29 @@ void run_simulate(const SimulateOptions& o) {
   const auto px = pixel_model_from(o.pixels);
   if (!px) throw InputError::at("--pixels", 0, "", "unknown pixel model '" + o.pixels + "'");
   cfg.pixels = *px;
+  const auto motion = motion_profile_from(o.motion);
+  if (!motion)
+    throw InputError::at("--motion", 0, "",
+                         "unknown motion '" + o.motion + "' (walk, seated, orienting, nodding, walking, tremor, mixed)");
+  cfg.motion = *motion;
   Simulator sim(o.cam.camera(), o.cam.model(), cfg);
   std::ofstream file;
   std::ostream& out = open_out(o.out, file);
   DotsCsvWriter w(out, true);
-  for (long i = 0; i < o.frames; ++i) w.write(sim.next());
+  SpeedCollector speed;
+  long seen3 = 0;
+  for (long i = 0; i < o.frames; ++i) {
+    const DotFrame f = sim.next();
+    speed.add(f.truth->pose, f.t);
+    if (leds_seen(f) >= 3) ++seen3;
+    w.write(f);
+  }
   out.flush();
   if (!out) throw InputError::at(o.out, 0, "", "write failed");
+  const SpeedStats st = speed.stats();
+  std::FILE* info = o.out == "-" ? stderr : stdout;
+  std::fprintf(info, "motion %s: angular speed p50 %.1f  p99 %.1f  max %.1f deg/s; %.2f %% of frames with >= 3 LEDs seen\n",
+               o.motion.c_str(), st.p50, st.p99, st.max, 100.0 * static_cast<double>(seen3) / static_cast<double>(o.frames));
 }
 
 TrackerConfig tracker_config(const std::string& method, const std::string& filter, double gate) {
@@ -153,6 +170,10 @@ void add_track_commands(CLI::App& track) {
   sim->add_option("--frames,-n", sim_opts->frames, "Number of frames")->capture_default_str()->check(CLI::PositiveNumber);
   sim->add_option("--seed", sim_opts->sim.seed, "Random seed")->capture_default_str();
   sim->add_option("--rate", sim_opts->sim.rate_hz, "Camera frame rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
+  sim->add_option("--motion", sim_opts->motion,
+                  "Head motion: walk (the original random walk), seated, orienting (quick turns up to 500 deg/s), "
+                  "nodding, walking, tremor, mixed")
+      ->capture_default_str();
   sim->add_option("--pixels", sim_opts->pixels, "Pixel model: exact, integer, quantize8 (thesis), gaussian")->capture_default_str();
   sim->add_option("--noise", sim_opts->sim.noise_px, "Pixel noise sigma for --pixels gaussian")->capture_default_str();
   sim->add_option("--z-min", sim_opts->sim.z_min_mm, "Nearest distance, mm")->capture_default_str();

@@ -25,3 +25,13 @@ execute_process(COMMAND ${EARSHOT} track solve --dots ${WORK}/dots.csv --model $
 if(NOT rc EQUAL 2 OR NOT err MATCHES "bad.json: field 'leds_mm'")
   message(FATAL_ERROR "bad model not reported clearly (${rc}): ${err}")
 endif()
+# Motion profiles: the speed statistics line, and an unknown profile named.
+execute_process(COMMAND ${EARSHOT} track simulate --motion orienting --frames 300 --seed 3 --out ${WORK}/orienting.csv
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+if(NOT rc EQUAL 0 OR NOT out MATCHES "motion orienting: angular speed p50 [0-9.]+  p99 [0-9.]+  max [0-9.]+ deg/s")
+  message(FATAL_ERROR "simulate --motion failed (${rc}): ${out}")
+endif()
+execute_process(COMMAND ${EARSHOT} track simulate --motion running --out ${WORK}/x.csv RESULT_VARIABLE rc ERROR_VARIABLE err)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--motion: unknown motion 'running'")
+  message(FATAL_ERROR "unknown motion not reported clearly (${rc}): ${err}")
+endif()

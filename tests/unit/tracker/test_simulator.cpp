@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <sstream>
+#include <string>
 
 #include "earshot/tracker/simulator.hpp"
 
@@ -79,4 +80,110 @@ TEST(Simulator, QuantizesToMultiplesOfEight) {
         EXPECT_EQ(std::fmod(s->y(), 8.0), 0.0);
       }
   }
+}
+
+// ---- Motion profiles (simulator.hpp documents each model and its bands) ----
+
+namespace {
+
+struct Band {
+  const char* name;
+  double p50_lo, p50_hi, p99_lo, p99_hi, max_hi;
+};
+
+// Angular speed bands (deg/s) each profile must stay in over every seed
+// below: 30 s of frames, integer pixels, f = 1280 px.
+constexpr Band kBands[] = {
+    {"seated", 20, 40, 50, 110, 150},  {"orienting", 8, 20, 120, 350, 560},
+    {"nodding", 15, 35, 60, 200, 250}, {"walking", 20, 45, 45, 100, 130},
+    {"tremor", 18, 40, 50, 110, 150},  {"mixed", 15, 40, 60, 200, 560},
+};
+
+std::string dump_profile(MotionProfile m, std::uint64_t seed, int frames) {
+  SimulatorConfig cfg;
+  cfg.seed = seed;
+  cfg.motion = m;
+  cfg.dropout_rate = 0.01;
+  Simulator sim(Camera::with_focal(1280), LedModel{}, cfg);
+  std::stringstream ss;
+  DotsCsvWriter w(ss, true);
+  for (int i = 0; i < frames; ++i) w.write(sim.next());
+  return ss.str();
+}
+
+}  // namespace
+
+TEST(SimulatorMotion, NamesRoundTrip) {
+  for (const Band& b : kBands) {
+    const auto m = motion_profile_from(b.name);
+    ASSERT_TRUE(m.has_value()) << b.name;
+    EXPECT_EQ(motion_profile_name(*m), b.name);
+  }
+  EXPECT_EQ(motion_profile_from("walk"), MotionProfile::walk);
+  EXPECT_FALSE(motion_profile_from("running").has_value());
+  EXPECT_EQ(SimulatorConfig{}.motion, MotionProfile::walk);  // the default stays the old walk
+}
+
+TEST(SimulatorMotion, SpeedStatisticsStayInTheirBandsAndLedsInView) {
+  for (const Band& b : kBands) {
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+      SimulatorConfig cfg;
+      cfg.seed = seed;
+      cfg.motion = *motion_profile_from(b.name);
+      Simulator sim(Camera::with_focal(1280), LedModel{}, cfg);
+      SpeedCollector speed;
+      int seen3 = 0;
+      const int frames = 3000;
+      for (int i = 0; i < frames; ++i) {
+        const DotFrame f = sim.next();
+        speed.add(f.truth->pose, f.t);
+        if (f.visible() >= 3) ++seen3;
+      }
+      const SpeedStats s = speed.stats();
+      SCOPED_TRACE(std::string(b.name) + " seed " + std::to_string(seed));
+      EXPECT_EQ(s.count, static_cast<size_t>(frames - 1));
+      EXPECT_GE(s.p50, b.p50_lo);
+      EXPECT_LE(s.p50, b.p50_hi);
+      EXPECT_GE(s.p99, b.p99_lo);
+      EXPECT_LE(s.p99, b.p99_hi);
+      EXPECT_LE(s.max, b.max_hi);
+      // A listener in front of the camera: the LEDs stay in view and beam.
+      EXPECT_GE(seen3, frames * 99 / 100);
+    }
+  }
+}
+
+TEST(SimulatorMotion, OrientingTurnsReachFastPeaks) {
+  // Over a longer stretch the quick turns reach the fast end of the main
+  // sequence (several hundred deg/s), and never beyond 500 plus the slow head.
+  SimulatorConfig cfg;
+  cfg.seed = 11;
+  cfg.motion = MotionProfile::orienting;
+  Simulator sim(Camera::with_focal(1280), LedModel{}, cfg);
+  SpeedCollector speed;
+  for (int i = 0; i < 30000; ++i) {
+    const DotFrame f = sim.next();
+    speed.add(f.truth->pose, f.t);
+  }
+  EXPECT_GT(speed.stats().max, 350.0);
+  EXPECT_LT(speed.stats().max, 560.0);
+}
+
+TEST(SimulatorMotion, IsDeterministicPerSeed) {
+  for (const Band& b : kBands) {
+    const auto m = *motion_profile_from(b.name);
+    EXPECT_EQ(dump_profile(m, 7, 400), dump_profile(m, 7, 400)) << b.name;
+    EXPECT_NE(dump_profile(m, 7, 400), dump_profile(m, 8, 400)) << b.name;
+  }
+}
+
+TEST(SpeedCollector, MeasuresAConstantTurn) {
+  SpeedCollector c;
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.01 * i;
+    c.add({rotation_from_ypr(90.0 * M_PI / 180.0 * t, 0, 0), Vec3(0, 0, 1000)}, t);
+  }
+  const SpeedStats s = c.stats();
+  EXPECT_NEAR(s.p50, 90.0, 1e-6);
+  EXPECT_NEAR(s.max, 90.0, 1e-6);
 }

@@ -89,12 +89,10 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
     Lane& lane = lanes_[l];
     float* in = input_.data() + l * in_stride;
     // Listed lanes have input this block or the last: the window is not silence.
-    fft_.forward(std::span<const float>(in, 2 * B), std::span(spectrum_).first(bins));
     float* x = planar_.data();
-    if (half_ == 1)
-      kernels::to_planar(spectrum_.data(), bins, x, stride_);
-    else  // the window is [this | previous]: rotated by B, which flips the sign of odd bins
-      kernels::to_planar_odd_negated(spectrum_.data(), bins, x, stride_);
+    // With half_ == 0 the window is [this | previous]: rotated by B, which
+    // flips the sign of odd bins.
+    fft_.forward_planar(std::span<const float>(in, 2 * B), x, stride_, half_ == 0);
     const std::size_t ear = l & 1;
     const auto e = static_cast<hrtf::Ear>(ear);
     const float* head = spectra_->head(l >> 1, e).data();

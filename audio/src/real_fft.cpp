@@ -10,7 +10,11 @@ extern "C" {
 #include <new>
 #include <stdexcept>
 
+#include <cmath>
+#include <numbers>
+
 #include "earshot/audio/aligned_vector.hpp"
+#include "earshot/audio/spectral_kernels.hpp"
 
 namespace earshot::audio {
 namespace {
@@ -30,9 +34,15 @@ struct RealFft::Plans {
   // overwrites its input, so a const spectrum is copied here first).
   mutable AlignedVector<float> time;
   mutable AlignedVector<std::complex<float>> spectrum;
+  // forward_planar: the complex FFT of size / 2 (into `spectrum`), the
+  // split's twiddles c, s and the bins' signs.
+  AVTXContext* half = nullptr;
+  av_tx_fn half_fn = nullptr;
+  AlignedVector<float> c, s, plus, alternating;
   ~Plans() {
     av_tx_uninit(&fwd);
     av_tx_uninit(&inv);
+    av_tx_uninit(&half);
     kiss_fftr_free(kiss_fwd);
     kiss_fftr_free(kiss_inv);
   }
@@ -51,9 +61,20 @@ RealFft::RealFft(std::size_t size) : size_(size), plans_(std::make_unique<Plans>
     plans_->kiss_inv = kiss_fftr_alloc(len, 1, nullptr, nullptr);
     if (!plans_->kiss_fwd || !plans_->kiss_inv) throw std::bad_alloc();
   }
+  plans_->spectrum.assign(bins() + 1, {});  // forward_planar's scratch on every path
   if (plans_->fwd) {
     plans_->time.assign(size + 2, 0.0f);
-    plans_->spectrum.assign(bins() + 1, {});
+    const std::size_t M = size / 2;
+    if (M >= 16 && av_tx_init(&plans_->half, &plans_->half_fn, AV_TX_FLOAT_FFT, 0, static_cast<int>(M), &one, 0) < 0)
+      throw std::bad_alloc();
+    for (auto* v : {&plans_->c, &plans_->s, &plans_->plus, &plans_->alternating}) v->assign(M + 1, 0.0f);
+    for (std::size_t k = 0; k <= M; ++k) {
+      const double a = std::numbers::pi * static_cast<double>(k) / static_cast<double>(M);
+      plans_->c[k] = static_cast<float>(0.5 * std::cos(a));
+      plans_->s[k] = static_cast<float>(0.5 * std::sin(a));
+      plans_->plus[k] = 1.0f;
+      plans_->alternating[k] = (k & 1) ? -1.0f : 1.0f;
+    }
   }
 }
 
@@ -79,6 +100,29 @@ void RealFft::forward(std::span<const float> time, std::span<std::complex<float>
     p.fwd_fn(p.fwd, p.spectrum.data(), in, sizeof(float));
     std::copy_n(p.spectrum.begin(), bins(), spectrum.begin());
   }
+}
+
+void RealFft::forward_planar(std::span<const float> time, float* out, std::size_t stride, bool odd_negated) const {
+  Plans& p = *plans_;
+  if (!p.half) {  // KissFFT sizes (and the smallest): the plain transform, then the layout
+    forward(time, std::span(p.spectrum.data(), bins()));
+    if (odd_negated)
+      kernels::to_planar_odd_negated(p.spectrum.data(), bins(), out, stride);
+    else
+      kernels::to_planar(p.spectrum.data(), bins(), out, stride);
+    return;
+  }
+  const std::size_t M = size_ / 2;
+  const float* in = time.data();
+  if (!aligned(in) || time.size() < size_) {
+    std::copy_n(time.begin(), size_, p.time.begin());
+    in = p.time.data();
+  }
+  // x viewed as M complex values x_2n + i x_2n+1; av_tx reads its input only.
+  p.half_fn(p.half, p.spectrum.data(), const_cast<float*>(in), sizeof(std::complex<float>));
+  p.spectrum[M] = p.spectrum[0];
+  const float* sign = odd_negated ? p.alternating.data() : p.plus.data();
+  kernels::real_spectrum(p.spectrum.data(), M, p.c.data(), p.s.data(), sign, out, stride);
 }
 
 void RealFft::inverse(std::span<const std::complex<float>> spectrum, std::span<float> time) const {

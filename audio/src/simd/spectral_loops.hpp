@@ -57,6 +57,23 @@ void to_planar_odd_negated(const std::complex<float>* in, std::size_t n, float* 
   }
 }
 
+inline void real_spectrum_bin(const float* __restrict z, std::size_t M, std::size_t k, const float* __restrict c,
+                              const float* __restrict s, const float* __restrict sign, float* __restrict out,
+                              std::size_t S) {
+  const float ar = z[2 * k], ai = z[2 * k + 1], br = z[2 * (M - k)], bi = z[2 * (M - k) + 1];
+  const float dr = ar - br, di = ai + bi;
+  out[k] = sign[k] * (0.5f * (ar + br) + c[k] * di - s[k] * dr);
+  out[S + k] = sign[k] * (0.5f * (ai - bi) - c[k] * dr - s[k] * di);
+}
+
+#ifndef EARSHOT_SIMD_OWN_REAL_SPECTRUM
+void real_spectrum(const std::complex<float>* zc, std::size_t M, const float* __restrict c, const float* __restrict s,
+                   const float* __restrict sign, float* __restrict out, std::size_t S) {
+  const float* z = reinterpret_cast<const float*>(zc);
+  for (std::size_t k = 0; k <= M; ++k) real_spectrum_bin(z, M, k, c, s, sign, out, S);
+}
+#endif
+
 void to_interleaved(const float* __restrict in, std::size_t S, std::complex<float>* out, std::size_t n) {
   float* __restrict f = reinterpret_cast<float*>(out);
   for (std::size_t k = 0; k < n; ++k) {

@@ -73,6 +73,37 @@ TEST(RealFft, MatchesTheDefinitionAlignedOrNot) {
   }
 }
 
+TEST(RealFft, PlanarForwardMatchesTheDefinition) {
+  // forward_planar: av_tx's half-size complex FFT and the real_spectrum
+  // kernel for powers of two, KissFFT for the rest; odd bins negated on
+  // request; the padding bins untouched; aligned input or not.
+  for (const std::size_t n : {std::size_t{256}, std::size_t{64}, std::size_t{200}}) {
+    const std::size_t bins = n / 2 + 1, S = (bins + 7) / 8 * 8;
+    const auto x = noise(n, static_cast<unsigned>(40 + n));
+    AlignedVector<float> buffer(n + 1);
+    RealFft fft(n);
+    for (const std::size_t shift : {0u, 1u})
+      for (const bool negated : {false, true}) {
+        std::copy(x.begin(), x.end(), buffer.begin() + static_cast<long>(shift));
+        std::vector<float> out(2 * S, 7.0f);
+        fft.forward_planar(std::span<const float>(buffer.data() + shift, n), out.data(), S, negated);
+        for (std::size_t k = 0; k < S; ++k) {
+          if (k >= bins) {
+            ASSERT_EQ(out[k], 7.0f) << "padding written, n " << n;
+            ASSERT_EQ(out[S + k], 7.0f) << "padding written, n " << n;
+            continue;
+          }
+          std::complex<double> ref{};
+          for (std::size_t t = 0; t < n; ++t)
+            ref += double(x[t]) * std::polar(1.0, -2 * std::numbers::pi * double(k * t) / double(n));
+          if (negated && k % 2) ref = -ref;
+          ASSERT_NEAR(out[k], ref.real(), 1e-4) << "n " << n << " bin " << k << " shift " << shift << " negated " << negated;
+          ASSERT_NEAR(out[S + k], ref.imag(), 1e-4) << "n " << n << " bin " << k << " shift " << shift << " negated " << negated;
+        }
+      }
+  }
+}
+
 namespace {
 const std::shared_ptr<const earshot::hrtf::HrtfSet>& kemar48() {
   static const auto set = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(48000.0));
@@ -494,4 +525,39 @@ TEST(AirAbsorption, HighsFallWithDistanceAsOpenAlSays) {
   EXPECT_NEAR(air_gain_db(air, 100), 0.0, 0.1);
   air.update(NAN, 1.0);  // bad numbers stop here
   EXPECT_NEAR(air_gain_db(air, 16000), 0.0, 0.01);
+}
+
+TEST(SpectralKernels, RealSpectrumIsTheSameOnEveryPath) {
+  // Every path against the split computed in double, for a size with
+  // whole groups of eight bins and one without (the scalar path).
+  for (const std::size_t M : {std::size_t{128}, std::size_t{20}}) {
+    const std::size_t S = (M + 1 + 7) / 8 * 8;
+    const auto v = noise(2 * M, static_cast<unsigned>(41 + M));
+    std::vector<std::complex<float>> z(M + 1);
+    for (std::size_t k = 0; k < M; ++k) z[k] = {v[2 * k], v[2 * k + 1]};
+    z[M] = z[0];
+    std::vector<float> c(M + 1), s(M + 1), sign(M + 1);
+    for (std::size_t k = 0; k <= M; ++k) {
+      c[k] = float(0.5 * std::cos(std::numbers::pi * double(k) / double(M)));
+      s[k] = float(0.5 * std::sin(std::numbers::pi * double(k) / double(M)));
+      sign[k] = k % 3 ? 1.0f : -1.0f;
+    }
+    for (const auto isa : runnable_isas()) {
+      std::vector<float> out(2 * S, 7.0f);
+      simd::kernels(isa).real_spectrum(z.data(), M, c.data(), s.data(), sign.data(), out.data(), S);
+      for (std::size_t k = 0; k < S; ++k) {
+        if (k > M) {  // padding
+          ASSERT_EQ(out[k], 7.0f);
+          ASSERT_EQ(out[S + k], 7.0f);
+          continue;
+        }
+        const std::complex<double> a = z[k], b = std::conj(std::complex<double>(z[M - k]));
+        const std::complex<double> ref =
+            double(sign[k]) * (0.5 * (a + b) + std::polar(1.0, -std::numbers::pi * double(k) / double(M)) *
+                                                   std::complex<double>(0, -0.5) * (a - b));
+        ASSERT_NEAR(out[k], ref.real(), 1e-5) << simd::name(isa) << " M " << M << " bin " << k;
+        ASSERT_NEAR(out[S + k], ref.imag(), 1e-5) << simd::name(isa) << " M " << M << " bin " << k;
+      }
+    }
+  }
 }

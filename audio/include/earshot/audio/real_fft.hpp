@@ -28,6 +28,14 @@ class RealFft {
   [[nodiscard]] std::size_t bins() const { return size_ / 2 + 1; }
   /// time (size) -> spectrum (bins)
   void forward(std::span<const float> time, std::span<std::complex<float>> spectrum) const;
+  /// time (size) -> spectrum (bins) in the planar layout: real parts at
+  /// out[0..bins), imaginary parts at out[stride..stride + bins); padding
+  /// left as it is. odd_negated flips the sign of the odd bins (the spectrum
+  /// of the input rotated by size / 2). For powers of two it runs a complex
+  /// FFT of size / 2 and its own vectorised split into the real signal's
+  /// bins (av_tx 5.1's real transform does that step in scalar code, which
+  /// took half of the transform's time), and needs no to_planar copy.
+  void forward_planar(std::span<const float> time, float* out, std::size_t stride, bool odd_negated) const;
   /// spectrum (bins) -> time (size), scaled by 1/size so inverse(forward(x)) = x
   void inverse(std::span<const std::complex<float>> spectrum, std::span<float> time) const;
   /// As inverse(), but may overwrite `spectrum` (saves a copy on hot paths).

@@ -39,6 +39,8 @@ struct Kernels {
   void (*to_planar)(const std::complex<float>* in, std::size_t n, float* out, std::size_t S);
   void (*to_planar_odd_negated)(const std::complex<float>* in, std::size_t n, float* out, std::size_t S);
   void (*to_interleaved)(const float* in, std::size_t S, std::complex<float>* out, std::size_t n);
+  void (*real_spectrum)(const std::complex<float>* z, std::size_t M, const float* c, const float* s,
+                        const float* sign, float* out, std::size_t S);
   /// FractionalDelay's read at a moving delay: n samples of the walk g.
   void (*glide)(const Glide& g, float* out, std::size_t n);
 };

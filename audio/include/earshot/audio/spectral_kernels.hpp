@@ -41,6 +41,15 @@ inline void to_planar(const std::complex<float>* in, std::size_t n, float* out, 
 inline void to_planar_odd_negated(const std::complex<float>* in, std::size_t n, float* out, std::size_t S) {
   simd::kernels().to_planar_odd_negated(in, n, out, S);
 }
+/// The last step of a real FFT of 2M samples done as a complex FFT of M
+/// (z_n = x_2n + i x_2n+1): from its output z (M + 1 values, z[M] = z[0])
+/// to the real signal's M + 1 bins, planar into out (re[0..S), im[0..S)),
+/// bin k times sign[k]; c[k] = cos(pi k / M) / 2, s[k] = sin(pi k / M) / 2.
+/// Vectorised (the library's own last step is scalar code).
+inline void real_spectrum(const std::complex<float>* z, std::size_t M, const float* c, const float* s,
+                          const float* sign, float* out, std::size_t S) {
+  simd::kernels().real_spectrum(z, M, c, s, sign, out, S);
+}
 /// Planar back to interleaved complex (n values).
 inline void to_interleaved(const float* in, std::size_t S, std::complex<float>* out, std::size_t n) {
   simd::kernels().to_interleaved(in, S, out, n);

@@ -11,3 +11,11 @@ if(EARSHOT_SANITIZE)
     add_link_options($<$<LINK_LANGUAGE:C>:-fsanitize-link-c++-runtime> $<$<LINK_LANGUAGE:C>:-lstdc++>)
   endif()
 endif()
+
+# Fuzz builds instrument every library for coverage too (not only the fuzz
+# targets): libFuzzer is then guided by the parsers' own branches. Without
+# it fuzz_osc_pose saw 82 coverage points, with it 1171. Executables that are
+# not fuzz targets link the sanitizer runtime's no-op coverage hooks.
+if(EARSHOT_BUILD_FUZZ)
+  add_compile_options(-fsanitize=fuzzer-no-link)
+endif()

@@ -11,8 +11,10 @@
 //     process's HrtfCache), builds the panner that uses them, starts and
 //     drops tracker leases, frees what the audio thread let go of.
 //   - work_response (audio class again): adopts what the worker built.
-// Ownership crosses threads as pointers inside worker messages; each side
-// adopts them into unique_ptrs at once, so nothing is ever freed in run().
+// Objects cross threads through Handoff slots the instance owns (handoff.hpp):
+// a worker message carries a slot number, never a pointer; nothing is ever
+// freed in run(), and nothing is leaked if the host cleans up with work or
+// answers still pending.
 #include <lv2/atom/forge.h>
 #include <lv2/atom/util.h>
 #include <lv2/core/lv2.h>
@@ -36,6 +38,7 @@
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
+#include "handoff.hpp"
 #include "shared_tracker.hpp"
 #include "uris.hpp"
 
@@ -79,10 +82,10 @@ constexpr std::size_t kMaxText = 4096;
 
 enum class Job : std::uint32_t { load_hrtf, start_tracker, drop_tracker, free_panner };
 
-/// A worker message: a job, a pointer handed over with it, and a text.
+/// A worker message: a job, the Handoff slot of what it hands over, and a text.
 struct Message {
   Job job;
-  void* object;  // free_panner: a BinauralPanner*; drop_tracker: a LeaseHolder*
+  std::int32_t slot;  // free_panner: in dead_panners_; drop_tracker: in dead_holders_
   char text[kMaxText];
 };
 
@@ -92,11 +95,15 @@ struct LeaseHolder {
   std::shared_ptr<TrackerLease> lease;
 };
 
-/// The worker's answer: a new panner or tracker lease (or none, on failure).
+/// The worker's answer: the slot of a new panner (born_panners_) or tracker
+/// lease (born_holders_).
 struct Reply {
   Job job;
-  void* object;
+  std::int32_t slot;
 };
+
+/// Slots per kind: more than the jobs a host's worker queue holds at once.
+constexpr std::size_t kSlots = 16;
 
 class Plugin {
  public:
@@ -178,13 +185,15 @@ class Plugin {
     Message m{};
     std::memcpy(&m, data, std::min<std::size_t>(size, sizeof m));
     m.text[kMaxText - 1] = '\0';
-    Reply r{m.job, nullptr};
+    Reply r{m.job, -1};
     switch (m.job) {
-      case Job::free_panner: std::unique_ptr<BinauralPanner>(static_cast<BinauralPanner*>(m.object)); return LV2_WORKER_SUCCESS;
-      case Job::drop_tracker: std::unique_ptr<LeaseHolder>(static_cast<LeaseHolder*>(m.object)); return LV2_WORKER_SUCCESS;
+      case Job::free_panner: (void)dead_panners_.take(m.slot); return LV2_WORKER_SUCCESS;  // freed here
+      case Job::drop_tracker: (void)dead_holders_.take(m.slot); return LV2_WORKER_SUCCESS;
       case Job::load_hrtf:
         try {
-          r.object = build_panner(m.text).release();
+          auto panner = build_panner(m.text);
+          r.slot = born_panners_.put(panner);
+          if (r.slot < 0) return LV2_WORKER_ERR_NO_SPACE;
         } catch (const std::exception& e) {
           lv2_log_error(&logger_, "earshot.lv2: cannot use HRTF set %s: %s (keeping %s)\n", m.text, e.what(),
                         "the current set");
@@ -195,7 +204,8 @@ class Plugin {
         try {
           auto holder = std::make_unique<LeaseHolder>();
           holder->lease = SharedTrackers::process().acquire(m.text);
-          r.object = holder.release();
+          r.slot = born_holders_.put(holder);
+          if (r.slot < 0) return LV2_WORKER_ERR_NO_SPACE;
         } catch (const std::exception& e) {
           lv2_log_error(&logger_, "earshot.lv2: cannot start tracker '%s': %s\n", m.text, e.what());
           return LV2_WORKER_ERR_UNKNOWN;
@@ -204,8 +214,8 @@ class Plugin {
     }
     if (respond(handle, sizeof r, &r) != LV2_WORKER_SUCCESS) {
       // The host cannot take the answer: free it here, on this thread.
-      if (r.job == Job::load_hrtf) std::unique_ptr<BinauralPanner>(static_cast<BinauralPanner*>(r.object));
-      if (r.job == Job::start_tracker) std::unique_ptr<LeaseHolder>(static_cast<LeaseHolder*>(r.object));
+      if (r.job == Job::load_hrtf) (void)born_panners_.take(r.slot);
+      if (r.job == Job::start_tracker) (void)born_holders_.take(r.slot);
     }
     return LV2_WORKER_SUCCESS;
   }
@@ -215,13 +225,15 @@ class Plugin {
     if (size != sizeof(Reply)) return LV2_WORKER_ERR_UNKNOWN;
     Reply r;
     std::memcpy(&r, data, sizeof r);
-    if (r.job == Job::load_hrtf && r.object) {
-      std::unique_ptr<BinauralPanner> next(static_cast<BinauralPanner*>(r.object));
+    if (r.job == Job::load_hrtf) {
+      std::unique_ptr<BinauralPanner> next = born_panners_.take(r.slot);
+      if (!next) return LV2_WORKER_ERR_UNKNOWN;
       std::swap(panner_, next);
       hand_to_worker(std::move(next));
       announce_sofa_ = true;
-    } else if (r.job == Job::start_tracker && r.object) {
-      std::unique_ptr<LeaseHolder> next(static_cast<LeaseHolder*>(r.object));
+    } else if (r.job == Job::start_tracker) {
+      std::unique_ptr<LeaseHolder> next = born_holders_.take(r.slot);
+      if (!next) return LV2_WORKER_ERR_UNKNOWN;
       if (tracker_requested_ == next->lease->spec) {
         std::swap(holder_, next);
       }
@@ -301,24 +313,26 @@ class Plugin {
     if (auto* v = static_cast<float*>(ports_[p])) *v = value;
   }
 
-  /// Gives `old` to the worker, which frees it off the audio thread. If the
-  /// host refuses the job it is parked until cleanup (one of each kind;
-  /// a second refusal in a row frees the older one here, the only way out).
+  /// Gives `old` to the worker, which frees it off the audio thread. It
+  /// waits in a slot of the instance until then (freed at cleanup if the
+  /// worker never gets to it). With every slot taken it is parked (one of
+  /// each kind; a second in a row frees the older one here, the only way out).
   void hand_to_worker(std::unique_ptr<BinauralPanner> old) {
-    if (!send_object(Job::free_panner, old.get())) parked_panner_ = std::move(old);
-    else (void)old.release();  // the worker owns it now
+    const int slot = dead_panners_.put(old);
+    if (slot < 0) parked_panner_ = std::move(old);
+    else send_slot(Job::free_panner, slot);
   }
   void hand_to_worker(std::unique_ptr<LeaseHolder> old) {
-    if (!send_object(Job::drop_tracker, old.get())) parked_holder_ = std::move(old);
-    else (void)old.release();  // the worker owns it now
+    const int slot = dead_holders_.put(old);
+    if (slot < 0) parked_holder_ = std::move(old);
+    else send_slot(Job::drop_tracker, slot);
   }
-  bool send_object(Job job, void* object) {
+  void send_slot(Job job, int slot) {
     Message m;
     m.job = job;
-    m.object = object;
+    m.slot = slot;
     m.text[0] = '\0';
-    return schedule_ &&
-           schedule_->schedule_work(schedule_->handle, offsetof(Message, text) + 1, &m) == LV2_WORKER_SUCCESS;
+    if (schedule_) (void)schedule_->schedule_work(schedule_->handle, offsetof(Message, text) + 1, &m);
   }
 
   /// Schedules a job carrying `text`; false when it does not fit or there is no worker.
@@ -326,7 +340,7 @@ class Plugin {
     if (!schedule_ || text.size() + 1 > kMaxText) return false;
     Message m;
     m.job = job;
-    m.object = nullptr;
+    m.slot = -1;
     std::memcpy(m.text, text.data(), text.size());
     m.text[text.size()] = '\0';
     return schedule_->schedule_work(schedule_->handle, static_cast<std::uint32_t>(offsetof(Message, text) + text.size() + 1),
@@ -416,6 +430,10 @@ class Plugin {
 
   std::unique_ptr<BinauralPanner> panner_;
   std::unique_ptr<LeaseHolder> holder_;
+  // What crosses to and from the worker (handoff.hpp): new ones from it,
+  // old ones to it.
+  Handoff<BinauralPanner, kSlots> born_panners_, dead_panners_;
+  Handoff<LeaseHolder, kSlots> born_holders_, dead_holders_;
   std::unique_ptr<BinauralPanner> parked_panner_;
   std::unique_ptr<LeaseHolder> parked_holder_;
   std::string tracker_spec_ = reserved(256);       // from state or patch:Set; "" = the source port

@@ -101,8 +101,8 @@ void DirectionBank::process(std::span<float> left, std::span<float> right) {
     // Partition p's product belongs to the output p blocks ahead.
     kernels::multiply_add(x, head, ahead_.data() + (now_ * 2 + ear) * P, stride_);
     ahead_used_[now_ * 2 + ear] = 1;
-    for (std::size_t p = 1; p < parts_; ++p) {
-      const std::size_t slot = (now_ + p) % parts_;
+    for (std::size_t p = 1, slot = now_; p < parts_; ++p) {
+      slot = slot + 1 == parts_ ? 0 : slot + 1;  // (now_ + p) % parts_, without a division per partition
       kernels::multiply_add_scaled(x, tail + (p - 1) * P, scale[p - 1], ahead_.data() + (slot * 2 + ear) * P, stride_);
       ahead_used_[slot * 2 + ear] = 1;
     }

@@ -366,11 +366,21 @@ class Plugin {
     tracker_requested_.assign(want);
   }
 
+  /// The control port's patch messages. The host's bytes are checked before
+  /// they are read: every event, property and value must lie inside the
+  /// sequence the host sized (tests/fuzz/fuzz_lv2_control.cpp).
   void read_control_events() {
     const auto* seq = static_cast<const LV2_Atom_Sequence*>(ports_[kControl]);
-    if (!seq || !map_) return;
+    if (!seq || !map_ || seq->atom.size < sizeof(LV2_Atom_Sequence_Body)) return;
+    const auto* end = reinterpret_cast<const std::uint8_t*>(&seq->body) + seq->atom.size;
+    const auto inside = [end](const void* p, std::size_t n) {
+      const auto* b = static_cast<const std::uint8_t*>(p);
+      return b <= end && n <= static_cast<std::size_t>(end - b);
+    };
     LV2_ATOM_SEQUENCE_FOREACH(seq, ev) {
+      if (!inside(ev, sizeof(LV2_Atom_Event)) || !inside(&ev->body, sizeof(LV2_Atom) + ev->body.size)) return;
       if (ev->body.type != uris_.atom_object && ev->body.type != uris_.atom_resource) continue;
+      if (ev->body.size < sizeof(LV2_Atom_Object_Body)) continue;
       const auto* obj = reinterpret_cast<const LV2_Atom_Object*>(&ev->body);
       if (obj->body.otype == uris_.patch_get) {
         announce_sofa_ = true;
@@ -380,8 +390,13 @@ class Plugin {
       if (obj->body.otype != uris_.patch_set) continue;
       const LV2_Atom* property = nullptr;
       const LV2_Atom* value = nullptr;
-      lv2_atom_object_get(obj, uris_.patch_property, &property, uris_.patch_value, &value, 0);
-      if (!property || property->type != uris_.atom_urid || !value) continue;
+      LV2_ATOM_OBJECT_FOREACH(obj, prop) {
+        if (!inside(prop, sizeof(LV2_Atom_Property_Body)) || !inside(&prop->value, sizeof(LV2_Atom) + prop->value.size))
+          break;
+        if (prop->key == uris_.patch_property) property = &prop->value;
+        if (prop->key == uris_.patch_value) value = &prop->value;
+      }
+      if (!property || property->type != uris_.atom_urid || property->size < sizeof(LV2_URID) || !value) continue;
       const LV2_URID key = reinterpret_cast<const LV2_Atom_URID*>(property)->body;
       const auto* text = static_cast<const char*>(LV2_ATOM_BODY_CONST(value));
       const std::string_view s(text, strnlen(text, value->size));
@@ -502,6 +517,6 @@ const LV2_Descriptor kDescriptor{EARSHOT_LV2_URI, instantiate, connect_port, act
 }  // namespace
 }  // namespace earshot::lv2
 
-extern "C" LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(std::uint32_t index) {
+LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(std::uint32_t index) {
   return index == 0 ? &earshot::lv2::kDescriptor : nullptr;
 }

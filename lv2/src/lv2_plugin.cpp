@@ -35,6 +35,7 @@
 #include <string>
 
 #include "binaural_panner.hpp"
+#include "panner_switch.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -107,7 +108,8 @@ constexpr std::size_t kSlots = 16;
 
 class Plugin {
  public:
-  Plugin(double rate, const LV2_Feature* const* features) : rate_(rate) {
+  Plugin(double rate, const LV2_Feature* const* features)
+      : rate_(rate), panners_(build_panner(hrtf::HrtfSet::kDefaultPath)) {  // throws: instantiate fails, the host says so
     const LV2_URID_Map* map = nullptr;
     for (int i = 0; features && features[i]; ++i) {
       const std::string_view uri = features[i]->URI;
@@ -119,7 +121,6 @@ class Plugin {
     map_ = map;
     lv2_log_logger_init(&logger_, const_cast<LV2_URID_Map*>(map), log_);
     if (map) lv2_atom_forge_init(&forge_, const_cast<LV2_URID_Map*>(map));
-    panner_ = build_panner(hrtf::HrtfSet::kDefaultPath);  // throws: instantiate fails, the host says so
   }
 
   ~Plugin() = default;  // the panner and the lease holder go with the instance (instantiation class)
@@ -129,7 +130,8 @@ class Plugin {
   }
 
   void activate() {
-    panner_->reset();
+    panners_.reset();
+    if (auto old = panners_.finished()) hand_to_worker(std::move(old));
   }
 
   void run(std::uint32_t frames) {
@@ -163,15 +165,16 @@ class Plugin {
       p.head_orientation = offset;
       p.head_position = {0, 0, 0};
     }
-    panner_->update(p);
+    panners_.update(p);
 
     const auto* in = static_cast<const float*>(ports_[kIn]);
     auto* left = static_cast<float*>(ports_[kOutLeft]);
     auto* right = static_cast<float*>(ports_[kOutRight]);
-    if (in && left && right) panner_->process(in, left, right, frames);
+    if (in && left && right) panners_.process(in, left, right, frames);
+    if (auto old = panners_.finished()) hand_to_worker(std::move(old));  // faded out: the worker frees it
 
     const YawPitchRoll head = ypr_from_quat(p.head_orientation);
-    set_output(kLatency, static_cast<float>(panner_->latency()));
+    set_output(kLatency, static_cast<float>(panners_.current().latency()));
     set_output(kHeadYaw, static_cast<float>(head.yaw / kDeg));
     set_output(kHeadPitch, static_cast<float>(head.pitch / kDeg));
     set_output(kHeadRoll, static_cast<float>(head.roll / kDeg));
@@ -228,8 +231,8 @@ class Plugin {
     if (r.job == Job::load_hrtf) {
       std::unique_ptr<BinauralPanner> next = born_panners_.take(r.slot);
       if (!next) return LV2_WORKER_ERR_UNKNOWN;
-      std::swap(panner_, next);
-      hand_to_worker(std::move(next));
+      // Heard after a warm-up and a crossfade (panner_switch.hpp), never a gap.
+      if (auto cut_short = panners_.switch_to(std::move(next))) hand_to_worker(std::move(cut_short));
       announce_sofa_ = true;
     } else if (r.job == Job::start_tracker) {
       std::unique_ptr<LeaseHolder> next = born_holders_.take(r.slot);
@@ -253,7 +256,7 @@ class Plugin {
       if (std::string_view(features[i]->URI) == LV2_STATE__freePath)
         free_path = static_cast<const LV2_State_Free_Path*>(features[i]->data);
     }
-    const std::string& path = panner_->hrtf_path();
+    const std::string& path = panners_.current().hrtf_path();
     char* abstract = map_path ? map_path->abstract_path(map_path->handle, path.c_str()) : nullptr;
     const char* stored = abstract ? abstract : path.c_str();
     store(handle, uris_.sofa, stored, std::strlen(stored) + 1, uris_.atom_path,
@@ -286,12 +289,16 @@ class Plugin {
           std::free(absolute);  // NOLINT: allocated by the host with malloc
         }
       }
-      if (path != panner_->hrtf_path()) {
+      if (path != panners_.current().hrtf_path()) {
         try {
-          panner_ = build_panner(path);  // not concurrent with run(): LV2's instantiation class
+          // Not concurrent with run() (LV2's instantiation class): switch at once.
+          // The old panners are freed here, at the end of this scope.
+          auto cut_short = panners_.switch_to(build_panner(path));
+          panners_.reset();  // no crossfade from a state the session never heard
+          auto old = panners_.finished();
         } catch (const std::exception& e) {
           lv2_log_error(&logger_, "earshot.lv2: restoring HRTF set %s: %s (keeping %s)\n", path.c_str(), e.what(),
-                        panner_->hrtf_path().c_str());
+                        panners_.current().hrtf_path().c_str());
           return LV2_STATE_ERR_UNKNOWN;
         }
       }
@@ -417,7 +424,7 @@ class Plugin {
     lv2_atom_forge_set_buffer(&forge_, reinterpret_cast<std::uint8_t*>(seq), capacity);
     LV2_Atom_Forge_Frame seq_frame;
     lv2_atom_forge_sequence_head(&forge_, &seq_frame, 0);
-    if (announce_sofa_) announce(uris_.sofa, uris_.atom_path, panner_->hrtf_path());
+    if (announce_sofa_) announce(uris_.sofa, uris_.atom_path, panners_.current().hrtf_path());
     if (announce_tracker_) announce(uris_.tracker, uris_.atom_string, tracker_spec_);
     announce_sofa_ = announce_tracker_ = false;
     lv2_atom_forge_pop(&forge_, &seq_frame);
@@ -443,7 +450,7 @@ class Plugin {
   LV2_Log_Logger logger_{};
   LV2_Atom_Forge forge_{};
 
-  std::unique_ptr<BinauralPanner> panner_;
+  PannerSwitch panners_;
   std::unique_ptr<LeaseHolder> holder_;
   // What crosses to and from the worker (handoff.hpp): new ones from it,
   // old ones to it.

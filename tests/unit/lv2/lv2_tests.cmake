@@ -5,6 +5,7 @@ earshot_unit_test(lv2_core_tests
   SOURCES lv2/test_binaural_panner.cpp audio/alloc_counter.cpp
   LIBS earshot_lv2_core earshot_analysis Threads::Threads
   THREAD_TESTS "SharedTrackers.*")
+target_compile_definitions(lv2_core_tests PRIVATE EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 
 earshot_unit_test(lv2_plugin_tests
   SOURCES lv2/test_lv2_plugin.cpp audio/alloc_counter.cpp

@@ -5,6 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <numbers>
+#include <stdexcept>
+#include <string>
 #include <numeric>
 #include <random>
 #include <vector>
@@ -12,6 +17,7 @@
 #include "../audio/alloc_counter.hpp"
 #include "binaural_cues.hpp"
 #include "binaural_panner.hpp"
+#include "panner_switch.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "shared_tracker.hpp"
@@ -196,4 +202,87 @@ TEST(SharedTrackers, ABadSpecIsAnErrorNamingIt) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("bogus"), std::string::npos) << e.what();
   }
+}
+
+namespace {
+
+/// A set other than KEMAR, written by the fixture tool (once per process).
+audio::PreparedHrtf synthetic_set() {
+  static const std::string path = [] {
+    const std::string p = (std::filesystem::temp_directory_path() / "earshot_switch_test.sofa").string();
+    const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out '" + p +
+                            "' --length 64 --grid fibonacci:300";
+    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("make_sofa.py failed");
+    return p;
+  }();
+  return audio::HrtfCache::shared().get(path, kRate, BinauralPanner::kBlock);
+}
+
+std::vector<float> tone(std::size_t n, double hz) {
+  std::vector<float> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<float>(0.2 * std::sin(2 * std::numbers::pi * hz * double(i) / kRate));
+  return v;
+}
+
+/// Largest sample-to-sample step of `x` in [from, to).
+double largest_step(const std::vector<float>& x, std::size_t from, std::size_t to) {
+  double m = 0;
+  for (std::size_t i = from + 1; i < to; ++i) m = std::max(m, std::abs(double(x[i]) - double(x[i - 1])));
+  return m;
+}
+
+}  // namespace
+
+TEST(PannerSwitch, SwitchingSetsWhilePlayingLeavesNoGapAndNoStep) {
+  const auto in = tone(48000, 300.0);
+  const std::size_t when = 9000;  // the switch, mid host block
+  PannerSwitch panners(std::make_unique<BinauralPanner>(kemar(), kRate));
+  panners.update(at(30));
+  std::vector<float> l(in.size()), r(in.size());
+  std::unique_ptr<BinauralPanner> finished;
+  for (std::size_t i = 0; i < in.size(); i += 100) {
+    const std::size_t n = std::min<std::size_t>(100, in.size() - i);
+    if (i <= when && when < i + n) {
+      (void)panners.switch_to(std::make_unique<BinauralPanner>(synthetic_set(), kRate));
+      panners.update(at(30));
+    }
+    panners.process(in.data() + i, l.data() + i, r.data() + i, n);
+    if (auto f = panners.finished()) finished = std::move(f);
+  }
+  ASSERT_TRUE(finished) << "the old panner was never released";
+  EXPECT_FALSE(panners.switching());
+  // No gap: every 128-frame window after the switch keeps most of the level.
+  auto rms = [&](std::size_t from) {
+    double e = 0;
+    for (std::size_t i = from; i < from + 128; ++i) e += double(l[i]) * l[i];
+    return std::sqrt(e / 128);
+  };
+  const double before = rms(when - 1000);
+  for (std::size_t w = when; w < when + 3000; w += 64) EXPECT_GT(rms(w), 0.5 * before) << "frame " << w;
+  // No step: a 300 Hz tone changes by at most ~0.2 * 2 pi 300 / 48000 per
+  // sample (times the set's gain); the switch may not add a jump beyond that.
+  // The two sets differ in level: the bound is the larger steady slope.
+  const double steady = std::max(largest_step(l, 4000, 8000), largest_step(l, when + 4000, when + 8000));
+  EXPECT_LT(largest_step(l, when, when + 3000), 1.5 * steady);
+}
+
+TEST(PannerSwitch, ToTheSameSetTheOutputIsUnchangedAfterTheWarmUp) {
+  const auto in = noise(20000);
+  BinauralPanner reference(kemar(), kRate);
+  reference.update(at(-70));
+  std::vector<float> rl(in.size()), rr(in.size());
+  reference.process(in.data(), rl.data(), rr.data(), in.size());
+
+  PannerSwitch panners(std::make_unique<BinauralPanner>(kemar(), kRate));
+  panners.update(at(-70));
+  std::vector<float> l(in.size()), r(in.size());
+  panners.process(in.data(), l.data(), r.data(), 5000);
+  (void)panners.switch_to(std::make_unique<BinauralPanner>(kemar(), kRate));
+  panners.update(at(-70));
+  panners.process(in.data() + 5000, l.data() + 5000, r.data() + 5000, in.size() - 5000);
+  // Until the fade both are the old panner's; the new one, after 1024+ frames of
+  // the same input, has the same history within the HRIR's length.
+  for (std::size_t i = 0; i < 5000 + PannerSwitch::kWarm; ++i) ASSERT_EQ(l[i], rl[i]) << i;
+  for (std::size_t i = 5000 + PannerSwitch::kWarm + PannerSwitch::kFade + 2048; i < in.size(); ++i)
+    ASSERT_NEAR(l[i], rl[i], 1e-4) << i;
 }

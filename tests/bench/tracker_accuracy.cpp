@@ -3,7 +3,7 @@
 //
 //   tracker_accuracy [--frames N] [--seed S]
 //
-// Methods: our tracker (lm, raw and with its One Euro filter), the thesis
+// Methods: our tracker (lm, raw, with One Euro and with the eskf), the thesis
 // method (its own labelling and median filter), OpenCV's solvePnP handed
 // the TRUE labels (ITERATIVE from the previous pose; SQPNP + RefineLM), and
 // the per-frame maximum-likelihood limit (LM started from the true pose).
@@ -72,20 +72,23 @@ void run(PixelModel pixels, const char* label, long frames, std::uint64_t seed, 
   walk.reserve(static_cast<size_t>(frames));
   for (long i = 0; i < frames; ++i) walk.push_back(sim.next());
 
-  std::vector<Row> rows(6);
+  std::vector<Row> rows(7);
   rows[0].name = "thesis (its labelling + median-5)";
   rows[1].name = "lm (ours, no filter)";
-  rows[2].name = "lm + One Euro (ours, default)";
+  rows[2].name = "lm + One Euro (ours)";
   rows[3].name = "OpenCV ITERATIVE, previous pose, true labels";
   rows[4].name = "OpenCV SQPNP + RefineLM, true labels";
   rows[5].name = "per-frame ML limit (LM from truth, true labels)";
-  for (size_t i = 3; i < rows.size(); ++i) rows[i].tracks_all = false;
+  rows[6].name = "lm + eskf (ours, default)";
+  for (size_t i = 3; i < 6; ++i) rows[i].tracks_all = false;
 
   TrackerConfig thesis_cfg;
   thesis_cfg.method = SolverMethod::thesis;
-  TrackerConfig lm_cfg, lm_euro_cfg;
+  TrackerConfig lm_cfg, lm_euro_cfg, lm_eskf_cfg;
   lm_euro_cfg.filter = FilterKind::one_euro;
-  DotTracker thesis(cam, model, thesis_cfg), lm(cam, model, lm_cfg), lm_euro(cam, model, lm_euro_cfg);
+  lm_eskf_cfg.filter = FilterKind::eskf;
+  DotTracker thesis(cam, model, thesis_cfg), lm(cam, model, lm_cfg), lm_euro(cam, model, lm_euro_cfg),
+      lm_eskf(cam, model, lm_eskf_cfg);
   OpenCvPnp cv_it(cam, model, CvMethod::iterative), cv_sq(cam, model, CvMethod::sqpnp_refine);
 
   for (const DotFrame& f : walk) {
@@ -96,6 +99,8 @@ void run(PixelModel pixels, const char* label, long frames, std::uint64_t seed, 
     account(rows[1], f, r.state == PoseState::tracking, r.pose);
     timed([&] { r = lm_euro.process(f); }, rows[2]);
     account(rows[2], f, r.state == PoseState::tracking, r.pose);
+    timed([&] { r = lm_eskf.process(f); }, rows[6]);
+    account(rows[6], f, r.state == PoseState::tracking, r.pose);
     if (leds_seen(f) != 4) {
       cv_it.reset();  // ITERATIVE restarts from SQPNP after a gap
       continue;
@@ -129,10 +134,11 @@ void run(PixelModel pixels, const char* label, long frames, std::uint64_t seed, 
   const double best_cv_t = std::min(rows[3].tally.four_dot.translation_mm().rms, rows[4].tally.four_dot.translation_mm().rms);
   const double ml_r = rows[5].tally.four_dot.rotation_deg().rms, ml_t = rows[5].tally.four_dot.translation_mm().rms;
   std::printf("\nlm / best OpenCV: rotation %.3f, translation %.3f; lm / ML limit: rotation %.3f, translation %.3f; "
-              "lm + One Euro / ML limit: rotation %.3f, translation %.3f\n",
+              "lm + One Euro / ML limit: rotation %.3f, translation %.3f; lm + eskf / ML limit: rotation %.3f, translation %.3f\n",
               rows[1].tally.four_dot.rotation_deg().rms / best_cv, rows[1].tally.four_dot.translation_mm().rms / best_cv_t,
               rows[1].tally.four_dot.rotation_deg().rms / ml_r, rows[1].tally.four_dot.translation_mm().rms / ml_t,
-              rows[2].tally.four_dot.rotation_deg().rms / ml_r, rows[2].tally.four_dot.translation_mm().rms / ml_t);
+              rows[2].tally.four_dot.rotation_deg().rms / ml_r, rows[2].tally.four_dot.translation_mm().rms / ml_t,
+              rows[6].tally.four_dot.rotation_deg().rms / ml_r, rows[6].tally.four_dot.translation_mm().rms / ml_t);
 }
 
 /// Latency of each filter on a head turning at a constant rate, and its

@@ -12,6 +12,7 @@ std::optional<FilterKind> filter_kind_from(std::string_view name) {
   if (name == "none") return FilterKind::none;
   if (name == "one-euro") return FilterKind::one_euro;
   if (name == "median5") return FilterKind::median5;
+  if (name == "eskf") return FilterKind::eskf;
   return std::nullopt;
 }
 
@@ -31,7 +32,8 @@ DotTracker::DotTracker(const Camera& cam, const LedModel& model, TrackerConfig c
       model_(model),
       cfg_(cfg),
       labeller_(cam, model, cfg.labeller),
-      thesis_solver_(std::make_unique<ThesisSolver>(cam, model)) {
+      thesis_solver_(std::make_unique<ThesisSolver>(cam, model)),
+      eskf_(cfg.eskf) {
   hyps_.reserve(8);
 }
 
@@ -45,16 +47,21 @@ void DotTracker::reset() {
   thesis_solver_->reset();
   one_euro_.reset();
   median_.reset();
+  eskf_.reset();
+  pixel_noise_.reset();
   cv_.reset();
   last_output_.reset();
   last_raw_.reset();
   last_solve_t_ = -1e300;
 }
 
-std::optional<Pose> DotTracker::predict(double t) const { return cv_.predict(t); }
+std::optional<Pose> DotTracker::predict(double t) const {
+  if (cfg_.filter == FilterKind::eskf && eskf_.initialised()) return eskf_.predict(t);
+  return cv_.predict(t);
+}
 
 TrackResult DotTracker::process(const DotFrame& frame) {
-  return finish(cfg_.method == SolverMethod::thesis ? process_thesis(frame) : process_lm(frame));
+  return finish(cfg_.method == SolverMethod::thesis ? process_thesis(frame) : process_lm(frame), frame);
 }
 
 TrackResult DotTracker::process_thesis(const DotFrame& frame) {
@@ -131,6 +138,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     if (!hyps_.empty()) {
       one_euro_.reset();
       median_.reset();
+      eskf_.reset();
     }
   }
   if (hyps_.empty() && visible >= 3 && last_raw_ && frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
@@ -189,7 +197,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   return r;
 }
 
-TrackResult DotTracker::finish(TrackResult r) {
+TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
     last_solve_t_ = r.t;
@@ -198,10 +206,20 @@ TrackResult DotTracker::finish(TrackResult r) {
       case FilterKind::none: r.pose = r.raw_pose; break;
       case FilterKind::one_euro: r.pose = one_euro_.filter(r.raw_pose, r.t); break;
       case FilterKind::median5: r.pose = median_.filter(r.raw_pose); break;
+      case FilterKind::eskf: {
+        LabelledDots dots;
+        for (size_t s = 0; s < kSlots; ++s)
+          if (r.slot_led[s] >= 0 && frame.slots[s]) dots.add(r.slot_led[s], *frame.slots[s]);
+        pixel_noise_.add(r.rms_px * r.rms_px * dots.count, dots.count);
+        r.pose = eskf_.update(r.raw_pose, pose_covariance(r.raw_pose, dots.view(), cam_, model_, pixel_variance()), r.t);
+        break;
+      }
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s && cfg_.method == SolverMethod::lm) {
     if (auto p = cv_.predict(r.t)) {
       r.state = PoseState::predicted;
+      if (cfg_.filter == FilterKind::eskf)
+        if (auto q = eskf_.predict(r.t)) p = q;  // the filter's velocities, not two noisy poses
       r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
     }
   }

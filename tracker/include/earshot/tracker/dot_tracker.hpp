@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/filters.hpp"
 #include "earshot/tracker/labeller.hpp"
 #include "earshot/tracker/poses_csv.hpp"
@@ -22,7 +23,10 @@
 
 namespace earshot::tracker {
 
-enum class FilterKind { none, one_euro, median5 };
+/// none: the solver's pose; one_euro, median5: jitter filters (filters.hpp);
+/// eskf: the error-state Kalman filter weighing each frame by its own
+/// covariance (eskf.hpp).
+enum class FilterKind { none, one_euro, median5, eskf };
 [[nodiscard]] std::optional<FilterKind> filter_kind_from(std::string_view name);
 
 struct TrackerConfig {
@@ -32,6 +36,10 @@ struct TrackerConfig {
   double predict_timeout_s = 0.1;  ///< predicted state lasts at most this long
   int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
   double reacquire3_window_s = 3.0;  ///< after a loss, re-acquire from 3 dots this long
+  EskfParams eskf{};              ///< head-motion model of the eskf filter
+  /// Pixel noise variance (px^2) for the eskf's measurement covariance:
+  /// 0 estimates it from the residuals (PixelNoiseEstimator).
+  double pixel_variance = 0.0;
 };
 
 struct TrackResult {
@@ -53,17 +61,24 @@ class DotTracker {
   DotTracker& operator=(DotTracker&&) noexcept;
 
   TrackResult process(const DotFrame& frame);
-  /// Constant-velocity prediction of the raw pose at time t (after a solve).
+  /// Constant-velocity prediction of the pose at time t (after a solve): the
+  /// eskf's state with that filter, else from the last two raw poses.
   [[nodiscard]] std::optional<Pose> predict(double t) const;
   void reset();
 
   [[nodiscard]] const TrackerConfig& config() const { return cfg_; }
+  /// The eskf filter (its last step feeds the offline smoother).
+  [[nodiscard]] const PoseEskf& eskf() const { return eskf_; }
+  /// The pixel noise variance the eskf uses now (px^2).
+  [[nodiscard]] double pixel_variance() const {
+    return cfg_.pixel_variance > 0.0 ? cfg_.pixel_variance : pixel_noise_.variance();
+  }
 
  private:
   struct Hypothesis;
   TrackResult process_lm(const DotFrame& frame);
   TrackResult process_thesis(const DotFrame& frame);
-  TrackResult finish(TrackResult r);
+  TrackResult finish(TrackResult r, const DotFrame& frame);
 
   Camera cam_;
   LedModel model_;
@@ -74,6 +89,8 @@ class DotTracker {
   std::vector<Hypothesis> hyps_;
   PoseOneEuro one_euro_;
   MedianPoseFilter median_;
+  PoseEskf eskf_;
+  PixelNoiseEstimator pixel_noise_;
   ConstantVelocity cv_;
   std::optional<Pose> last_output_;
   std::optional<Pose> last_raw_;

@@ -1,0 +1,210 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "earshot/tracker/accuracy.hpp"
+#include "earshot/tracker/dot_tracker.hpp"
+#include "earshot/tracker/eskf.hpp"
+#include "earshot/tracker/lm_refine.hpp"
+#include "earshot/tracker/simulator.hpp"
+
+using namespace earshot::tracker;
+using earshot::PoseState;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+Mat6 diag6(double rot_rad, double trans_mm) {
+  Mat6 c = Mat6::Zero();
+  c.diagonal() << rot_rad * rot_rad, rot_rad * rot_rad, rot_rad * rot_rad, trans_mm * trans_mm, trans_mm * trans_mm,
+      trans_mm * trans_mm;
+  return c;
+}
+
+/// A pose perturbed by Gaussian noise of the given sigmas (left perturbation).
+Pose noisy(const Pose& p, std::mt19937_64& rng, double rot_rad, double trans_mm) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Vec3 w(n(rng), n(rng), n(rng)), d(n(rng), n(rng), n(rng));
+  return {exp_so3(rot_rad * w) * p.R, p.t + trans_mm * d};
+}
+
+}  // namespace
+
+TEST(PoseCovariance, MatchesTheSpreadOfLmSolutionsUnderPixelNoise) {
+  // Monte Carlo: LM solutions of dots with Gaussian pixel noise spread as
+  // sigma^2 (J^T J)^-1 says (per parameter, within 15 %).
+  const Camera cam = Camera::with_focal(1280);
+  const LedModel model;
+  const Pose truth{rotation_from_ypr(0.3, -0.2, 0.1), Vec3(50, -30, 1000)};
+  const double sigma = 0.5;
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> n(0.0, sigma);
+  Eigen::Matrix<double, 6, 1> sum = Eigen::Matrix<double, 6, 1>::Zero();
+  const int trials = 3000;
+  for (int i = 0; i < trials; ++i) {
+    LabelledDots d;
+    for (int l = 0; l < 4; ++l)
+      d.add(l, cam.project(truth.apply(model.leds_mm[static_cast<size_t>(l)])) + Vec2(n(rng), n(rng)));
+    const Pose p = refine_pose_lm(truth, d.view(), cam, model).pose;
+    Eigen::Matrix<double, 6, 1> e;
+    e << log_so3(p.R * truth.R.transpose()), p.t - truth.t;
+    sum += e.cwiseProduct(e);
+  }
+  LabelledDots exact;
+  for (int l = 0; l < 4; ++l) exact.add(l, cam.project(truth.apply(model.leds_mm[static_cast<size_t>(l)])));
+  const Mat6 C = pose_covariance(truth, exact.view(), cam, model, sigma * sigma);
+  for (int k = 0; k < 6; ++k) {
+    const double empirical = sum[k] / trials;
+    EXPECT_NEAR(empirical / C(k, k), 1.0, 0.15) << "parameter " << k;
+  }
+}
+
+TEST(PixelNoiseEstimator, FindsTheCameraModesVariance) {
+  // Through the tracker: integer pixels give 1/12 px^2, 8-px quantisation 64/12.
+  const Camera cam = Camera::with_focal(1280);
+  const LedModel model;
+  for (auto [pixels, expected] : {std::pair{PixelModel::integer, 1.0 / 12.0}, std::pair{PixelModel::quantize8, 64.0 / 12.0}}) {
+    SimulatorConfig sc;
+    sc.motion = MotionProfile::seated;
+    sc.pixels = pixels;
+    Simulator sim(cam, model, sc);
+    TrackerConfig tc;
+    tc.filter = FilterKind::eskf;
+    DotTracker tr(cam, model, tc);
+    for (int i = 0; i < 3000; ++i) tr.process(sim.next());
+    EXPECT_NEAR(tr.pixel_variance() / expected, 1.0, 0.25);
+  }
+}
+
+TEST(PoseEskf, AveragesAStillHeadsNoiseByItsCovariance) {
+  std::mt19937_64 rng(5);
+  const Pose truth{rotation_from_ypr(0.2, 0.1, 0.0), Vec3(0, 0, 1000)};
+  auto jitter_kept = [&](double rot, double trans) {
+    PoseEskf f;
+    double raw = 0, out = 0;
+    for (int i = 0; i < 2000; ++i) {
+      const Pose z = noisy(truth, rng, rot, trans);
+      const Pose p = f.update(z, diag6(rot, trans), 0.01 * i);
+      if (i < 200) continue;
+      raw += std::pow(rotation_angle_between(z.R, truth.R), 2);
+      out += std::pow(rotation_angle_between(p.R, truth.R), 2);
+    }
+    return std::sqrt(out / raw);
+  };
+  // Noisier measurements are averaged over longer: less of their jitter is kept.
+  const double precise = jitter_kept(0.1 * kDeg, 0.5), noisy_ = jitter_kept(2.0 * kDeg, 10.0);
+  EXPECT_LT(noisy_, 0.5);
+  EXPECT_LT(noisy_, precise);
+  EXPECT_LT(precise, 1.0);
+}
+
+TEST(PoseEskf, FollowsAConstantTurnWithoutLag) {
+  // The constant-velocity model has no steady-state lag on a steady turn.
+  PoseEskf f;
+  const double w = 270.0 * kDeg;
+  double err = 0.0;
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.01 * i;
+    const Pose truth{rotation_from_ypr(w * t, 0, 0), Vec3(100.0 * t, 0, 1000)};
+    const Pose p = f.update(truth, diag6(0.2 * kDeg, 1.0), t);
+    err = rotation_angle_between(p.R, truth.R);
+  }
+  EXPECT_LT(err / kDeg, 0.05);
+  EXPECT_NEAR(f.angular_velocity().y(), w, 0.01 * w);
+  const auto ahead = f.predict(1.0);  // 10 ms past the last update
+  ASSERT_TRUE(ahead.has_value());
+  EXPECT_LT(rotation_angle_between(ahead->R, rotation_from_ypr(w * 1.0, 0, 0)) / kDeg, 0.05);
+}
+
+TEST(PoseEskf, TakesAQuickTurnAsAManoeuvre) {
+  // Still, then suddenly 400 deg/s: the innovation asks for larger process
+  // noise and the filter is within a degree of the head a few frames later.
+  PoseEskf f;
+  std::mt19937_64 rng(9);
+  const double w = 400.0 * kDeg;
+  bool inflated = false;
+  double err_after = 1e9;
+  for (int i = 0; i < 120; ++i) {
+    const double t = 0.01 * i;
+    const double yaw = i < 100 ? 0.0 : w * (t - 1.0);
+    const Pose truth{rotation_from_ypr(yaw, 0, 0), Vec3(0, 0, 1000)};
+    const Pose p = f.update(noisy(truth, rng, 0.05 * kDeg, 0.2), diag6(0.05 * kDeg, 0.2), t);
+    if (i >= 100 && f.last_q_scale() > 1.0) inflated = true;
+    if (i == 106) err_after = rotation_angle_between(p.R, truth.R) / kDeg;
+    EXPECT_FALSE(f.last_rejected()) << "frame " << i;
+  }
+  EXPECT_TRUE(inflated);
+  EXPECT_LT(err_after, 1.0);
+}
+
+TEST(PoseEskf, SkipsAnOutlierAndRestartsOnAPersistentOne) {
+  PoseEskf f;
+  const Pose still{Mat3::Identity(), Vec3(0, 0, 1000)};
+  for (int i = 0; i < 50; ++i) f.update(still, diag6(0.1 * kDeg, 0.5), 0.01 * i);
+  const Pose wrong{rotation_from_ypr(30 * kDeg, 0, 0), Vec3(0, 0, 1000)};
+  Pose p = f.update(wrong, diag6(0.1 * kDeg, 0.5), 0.50);
+  EXPECT_TRUE(f.last_rejected());
+  EXPECT_LT(rotation_angle_between(p.R, still.R) / kDeg, 0.1);  // kept the prediction
+  f.update(wrong, diag6(0.1 * kDeg, 0.5), 0.51);
+  EXPECT_TRUE(f.last_rejected());
+  p = f.update(wrong, diag6(0.1 * kDeg, 0.5), 0.52);  // the third: the model was wrong
+  EXPECT_LT(rotation_angle_between(p.R, wrong.R) / kDeg, 1e-9);
+  EXPECT_TRUE(f.last_step().restart);
+}
+
+TEST(PoseEskf, RtsSmoothingBeatsFilteringOnANoisyTurn) {
+  PoseEskf f;
+  std::mt19937_64 rng(21);
+  std::vector<EskfStep> steps;
+  std::vector<Pose> truth, filtered;
+  for (int i = 0; i < 1000; ++i) {
+    const double t = 0.01 * i;
+    const Pose p{rotation_from_ypr(0.5 * std::sin(1.3 * t), 0.2 * std::sin(0.7 * t), 0), Vec3(30 * std::sin(t), 0, 1000)};
+    truth.push_back(p);
+    filtered.push_back(f.update(noisy(p, rng, 1.0 * kDeg, 3.0), diag6(1.0 * kDeg, 3.0), t));
+    steps.push_back(f.last_step());
+  }
+  const std::vector<Pose> smooth = rts_smooth(steps);
+  ASSERT_EQ(smooth.size(), truth.size());
+  AccuracyCollector ef, es;
+  for (size_t i = 100; i < truth.size(); ++i) {
+    ef.add(filtered[i], truth[i]);
+    es.add(smooth[i], truth[i]);
+  }
+  EXPECT_LT(es.rotation_deg().rms, 0.8 * ef.rotation_deg().rms);
+  EXPECT_LT(es.translation_mm().rms, 0.8 * ef.translation_mm().rms);
+  // The last step has no future: smoothing leaves it as filtered.
+  EXPECT_LT(rotation_angle_between(smooth.back().R, filtered.back().R), 1e-12);
+}
+
+TEST(DotTrackerEskf, IsNeverWorseThanRawLmOnASeatedListener) {
+  // Both beacons' worth of conditioning is covered by tests/bench/tracker_motion;
+  // here one seated walk with the thesis beacon, integer pixels, 4-dot frames.
+  const Camera cam = Camera::with_focal(1280);
+  const LedModel model;
+  SimulatorConfig sc;
+  sc.seed = 77;
+  sc.motion = MotionProfile::seated;
+  Simulator sim(cam, model, sc);
+  TrackerConfig raw_cfg, eskf_cfg;
+  eskf_cfg.filter = FilterKind::eskf;
+  DotTracker raw(cam, model, raw_cfg), eskf(cam, model, eskf_cfg);
+  AccuracyCollector er, ee;
+  for (int i = 0; i < 3000; ++i) {
+    const DotFrame f = sim.next();
+    const TrackResult a = raw.process(f), b = eskf.process(f);
+    if (leds_seen(f) != 4 || a.state != PoseState::tracking || b.state != PoseState::tracking) continue;
+    er.add(a.pose, f.truth->pose);
+    ee.add(b.pose, f.truth->pose);
+  }
+  ASSERT_GT(er.count(), 2500u);
+  EXPECT_LT(ee.rotation_deg().rms, 0.8 * er.rotation_deg().rms);
+  EXPECT_LT(ee.translation_mm().rms, 0.8 * er.translation_mm().rms);
+}
+
+TEST(DotTrackerEskf, FilterIsNamed) {
+  EXPECT_EQ(filter_kind_from("eskf"), FilterKind::eskf);
+  EXPECT_FALSE(filter_kind_from("kalman").has_value());
+}

@@ -1,0 +1,138 @@
+// An error-state Kalman filter for the head pose that knows each frame's
+// uncertainty (`--filter eskf`).
+//
+// State: orientation R and position p (camera frame, mm) with their world-
+// frame angular velocity w (rad/s) and velocity v (mm/s). The error state is
+// 12-dimensional, [dtheta, dp, dw, dv], with R_true = exp([dtheta]x) R: the
+// same left perturbation as the LM solver (lm_refine.hpp), so the LM's
+// covariance is the measurement covariance as it stands.
+//
+// Motion model: constant angular and linear velocity driven by white
+// acceleration noise of spectral density q (per axis; rad^2/s^3 and
+// mm^2/s^3). q is not a knob per rig: it is a property of heads. An
+// Ornstein-Uhlenbeck velocity of RMS s and correlation time tau has
+// acceleration spectral density 2 s^2 / tau; a seated listener's exploring
+// movements (RMS ~30 deg/s per axis, correlation ~0.5 s: Thurlow et al. 1967;
+// Kim et al. 2013, "Head movements made by listeners in experimental and
+// real-life listening activities", JAES 61:425) give q ~ 1 rad^2/s^3, and
+// head translation (RMS ~50 mm/s, ~1 s) q ~ 5000 mm^2/s^3.
+//
+// Measurement: each frame's LM pose with covariance sigma^2 (J^T J)^-1 at
+// the solution (pose_covariance below), sigma^2 the camera's pixel noise
+// variance (1/12 px^2 for integer pixels, 64/12 for the thesis's 8-px
+// quantisation): estimated online from the 4-dot residuals unless given
+// (PixelNoiseEstimator). So the gain follows the beacon's geometry, the focal
+// length, the distance and the quantisation by itself.
+//
+// Manoeuvres and outliers: the innovation's Mahalanobis distance (NIS, chi^2
+// with 6 degrees of freedom) tells a measurement the model did not expect.
+// When it exceeds manoeuvre_chi2 the filter first asks whether the head
+// accelerated: it re-predicts with the process noise scaled up (x10 per try,
+// up to x1000: a quick turn toward a sound reaches ~150 rad/s^2) and takes
+// the smallest scale that explains the measurement. A measurement no scale
+// explains (NIS beyond outlier_chi2 even then) is an outlier and is skipped;
+// three in a row mean the model is wrong and the filter restarts from the
+// measurement. The thresholds are far beyond chi^2(6)'s 99 % point (16.8)
+// because the camera's errors are not Gaussian: with 8-px quantisation the
+// Gaussian thresholds took ordinary quantisation errors for manoeuvres and
+// made the filter worse than raw LM (tuning seeds, tests/bench/tracker_motion).
+#pragma once
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "earshot/tracker/camera.hpp"
+#include "earshot/tracker/correspondence.hpp"
+#include "earshot/tracker/geometry.hpp"
+#include "earshot/tracker/led_model.hpp"
+
+namespace earshot::tracker {
+
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat12 = Eigen::Matrix<double, 12, 12>;
+using Vec12 = Eigen::Matrix<double, 12, 1>;
+
+struct EskfParams {
+  double angular_accel_psd = 1.0;     ///< q, rad^2/s^3 per axis (see above)
+  double linear_accel_psd = 5000.0;   ///< q, mm^2/s^3 per axis
+  double manoeuvre_chi2 = 100.0;      ///< NIS beyond which larger process noise is tried
+  double outlier_chi2 = 400.0;        ///< NIS beyond which, at every scale, a measurement is an outlier
+  double max_gap_s = 0.25;            ///< a longer gap restarts the filter
+};
+
+/// Covariance (rad, mm; left perturbation (w, t)) of the least-squares pose
+/// over these dots: pixel_variance * (J^T J)^-1.
+[[nodiscard]] Mat6 pose_covariance(const Pose& pose, std::span<const Correspondence> dots, const Camera& cam,
+                                   const LedModel& model, double pixel_variance);
+
+/// The pixel noise variance, from the residuals of 4-dot solves (2 degrees of
+/// freedom each: 8 residuals, 6 pose parameters). Starts at integer pixels'
+/// 1/12 px^2; a running mean over the first 200 frames, then slowly tracking.
+class PixelNoiseEstimator {
+ public:
+  /// One solve: the sum of squared residuals over `dots` dots.
+  void add(double sum_sq_px, int dots);
+  [[nodiscard]] double variance() const { return var_; }
+  void reset() { *this = {}; }
+
+ private:
+  double var_ = 1.0 / 12.0;
+  long n_ = 0;
+};
+
+/// One filter step, kept for the RTS smoother.
+struct EskfStep {
+  double t = 0.0;
+  Pose pose_pred, pose_upd;
+  Vec3 w_pred = Vec3::Zero(), v_pred = Vec3::Zero(), w_upd = Vec3::Zero(), v_upd = Vec3::Zero();
+  Mat12 P_pred = Mat12::Zero(), P_upd = Mat12::Zero();
+  Mat12 F = Mat12::Identity();         ///< error-state transition from the previous step to this one
+  bool restart = false;  ///< the filter (re)started here: no link to the previous step
+};
+
+class PoseEskf {
+ public:
+  explicit PoseEskf(EskfParams p = {}) : p_(p) {}
+
+  /// Fuses a measured pose with its covariance at time t; returns the
+  /// filtered pose.
+  Pose update(const Pose& z, const Mat6& cov, double t);
+  /// The pose predicted to time t (>= the last update) by the motion model.
+  [[nodiscard]] std::optional<Pose> predict(double t) const;
+  void reset() { have_ = false; }
+
+  [[nodiscard]] bool initialised() const { return have_; }
+  [[nodiscard]] const Vec3& angular_velocity() const { return w_; }
+  [[nodiscard]] const Vec3& velocity() const { return v_; }
+  [[nodiscard]] const Mat12& covariance() const { return P_; }
+  /// What the last update did: NIS, the process-noise scale it used, and
+  /// whether it skipped the measurement as an outlier.
+  [[nodiscard]] double last_nis() const { return nis_; }
+  [[nodiscard]] double last_q_scale() const { return q_scale_; }
+  [[nodiscard]] bool last_rejected() const { return rejected_; }
+  /// The last step's record (for the smoother).
+  [[nodiscard]] const EskfStep& last_step() const { return step_; }
+
+ private:
+  void start(const Pose& z, const Mat6& cov, double t);
+
+  EskfParams p_;
+  bool have_ = false;
+  Pose x_;
+  Vec3 w_ = Vec3::Zero(), v_ = Vec3::Zero();
+  Mat12 P_ = Mat12::Identity();
+  double t_ = 0.0;
+  double nis_ = 0.0, q_scale_ = 1.0;
+  bool rejected_ = false;
+  int rejected_run_ = 0;
+  EskfStep step_;
+};
+
+/// Fixed-interval Rauch-Tung-Striebel smoothing of a run of filter steps
+/// (offline: `track solve --smooth`). Returns one pose per step.
+[[nodiscard]] std::vector<Pose> rts_smooth(std::span<const EskfStep> steps);
+
+}  // namespace earshot::tracker

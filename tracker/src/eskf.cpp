@@ -1,0 +1,215 @@
+#include "earshot/tracker/eskf.hpp"
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "earshot/tracker/lm_refine.hpp"
+
+namespace earshot::tracker {
+namespace {
+
+// Largest process-noise scale a manoeuvre may ask for: q x 1000 ~ 1000
+// rad^2/s^3 covers a quick turn's ~150 rad/s^2 (0.87 rad/s of velocity change
+// in a 10 ms frame) but not a pose that jumps tens of degrees in one frame.
+constexpr double kMaxScale = 1e3;
+
+/// Error-state transition over dt for the constant-velocity model.
+Mat12 transition(const Vec3& w, double dt) {
+  Mat12 F = Mat12::Identity();
+  F.block<3, 3>(0, 0) = exp_so3(w * dt);  // exp(w dt) exp(d) R = exp(exp(w dt) d) exp(w dt) R
+  F.block<3, 3>(0, 6) = dt * Mat3::Identity();
+  F.block<3, 3>(3, 9) = dt * Mat3::Identity();
+  return F;
+}
+
+/// Process noise of white acceleration (spectral densities qa, ql) over dt.
+Mat12 process_noise(double qa, double ql, double dt) {
+  Mat12 Q = Mat12::Zero();
+  const double a = dt * dt * dt / 3.0, b = dt * dt / 2.0;
+  const Mat3 I = Mat3::Identity();
+  Q.block<3, 3>(0, 0) = qa * a * I;
+  Q.block<3, 3>(0, 6) = qa * b * I;
+  Q.block<3, 3>(6, 0) = qa * b * I;
+  Q.block<3, 3>(6, 6) = qa * dt * I;
+  Q.block<3, 3>(3, 3) = ql * a * I;
+  Q.block<3, 3>(3, 9) = ql * b * I;
+  Q.block<3, 3>(9, 3) = ql * b * I;
+  Q.block<3, 3>(9, 9) = ql * dt * I;
+  return Q;
+}
+
+/// The pose an error (dtheta, dp) away from x.
+Pose inject(const Pose& x, const Vec3& dtheta, const Vec3& dp) { return {exp_so3(dtheta) * x.R, x.t + dp}; }
+
+}  // namespace
+
+Mat6 pose_covariance(const Pose& pose, std::span<const Correspondence> dots, const Camera& cam,
+                     const LedModel& model, double pixel_variance) {
+  Mat6 H = Mat6::Zero();
+  for (const auto& d : dots) {
+    const auto J = reprojection_jacobian(pose, model.leds_mm[static_cast<size_t>(d.led)], cam);
+    H.noalias() += J.transpose() * J;
+  }
+  // A whisker of regularisation (1e-9 of the largest diagonal entry) keeps a
+  // degenerate three-dot geometry invertible: its weak directions come out
+  // with a huge variance, which is what they have.
+  H.diagonal().array() += 1e-9 * H.diagonal().maxCoeff() + 1e-300;
+  Mat6 C = pixel_variance * H.ldlt().solve(Mat6::Identity());
+  return 0.5 * (C + C.transpose());
+}
+
+void PixelNoiseEstimator::add(double sum_sq_px, int dots) {
+  if (dots < 4 || !std::isfinite(sum_sq_px)) return;
+  const double sample = sum_sq_px / static_cast<double>(2 * dots - 6);
+  ++n_;
+  const double a = n_ <= 200 ? 1.0 / static_cast<double>(n_) : 1.0 / 200.0;
+  var_ += a * (sample - var_);
+}
+
+void PoseEskf::start(const Pose& z, const Mat6& cov, double t) {
+  x_ = z;
+  w_.setZero();
+  v_.setZero();
+  P_.setZero();
+  P_.topLeftCorner<6, 6>() = cov;
+  // Velocity unknown: the spread of head speeds (~200 deg/s, ~500 mm/s).
+  P_.block<3, 3>(6, 6) = std::pow(200.0 * M_PI / 180.0, 2) * Mat3::Identity();
+  P_.block<3, 3>(9, 9) = 500.0 * 500.0 * Mat3::Identity();
+  t_ = t;
+  have_ = true;
+  rejected_run_ = 0;
+  nis_ = 0.0;
+  q_scale_ = 1.0;
+  rejected_ = false;
+  step_.t = t;
+  step_.pose_pred = step_.pose_upd = z;
+  step_.w_pred = step_.w_upd = w_;
+  step_.v_pred = step_.v_upd = v_;
+  step_.P_pred = step_.P_upd = P_;
+  step_.F = Mat12::Identity();
+  step_.restart = true;
+}
+
+Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
+  const double dt = t - t_;
+  if (!have_ || !(dt > 0.0) || dt > p_.max_gap_s || !cov.allFinite()) {
+    start(z, cov, t);
+    return x_;
+  }
+  const Mat12 F = transition(w_, dt);
+  const Mat12 Q = process_noise(p_.angular_accel_psd, p_.linear_accel_psd, dt);
+  const Pose x_pred{exp_so3(w_ * dt) * x_.R, x_.t + v_ * dt};
+  const Mat12 FPF = F * P_ * F.transpose();
+
+  Eigen::Matrix<double, 6, 1> nu;
+  nu.head<3>() = log_so3(z.R * x_pred.R.transpose());
+  nu.tail<3>() = z.t - x_pred.t;
+
+  // The smallest process-noise scale that explains the measurement.
+  Mat12 P_pred;
+  Mat6 S;
+  Eigen::LDLT<Mat6> S_ldlt;
+  double nis = 0.0, scale = 1.0;
+  for (scale = 1.0; scale <= kMaxScale; scale *= 10.0) {
+    P_pred = FPF + scale * Q;
+    S = P_pred.topLeftCorner<6, 6>() + cov;
+    S_ldlt.compute(S);
+    nis = nu.dot(S_ldlt.solve(nu));
+    if (nis <= p_.manoeuvre_chi2) break;
+  }
+  scale = std::min(scale, kMaxScale);
+  nis_ = nis;
+  q_scale_ = scale;
+  step_.t = t;
+  step_.pose_pred = x_pred;
+  step_.w_pred = w_;
+  step_.v_pred = v_;
+  step_.P_pred = P_pred;
+  step_.F = F;
+  step_.restart = false;
+
+  if (!(nis <= p_.outlier_chi2)) {  // no head motion explains it: skip the measurement
+    rejected_ = true;
+    if (++rejected_run_ >= 3) {
+      start(z, cov, t);
+      return x_;
+    }
+    x_ = x_pred;
+    P_ = FPF + Q;  // the model's own uncertainty, not the inflated one tried
+    step_.P_pred = P_;
+    t_ = t;
+    step_.pose_upd = x_;
+    step_.w_upd = w_;
+    step_.v_upd = v_;
+    step_.P_upd = P_;
+    return x_;
+  }
+  rejected_ = false;
+  rejected_run_ = 0;
+
+  // K = P H^T S^-1 with H = [I6 0].
+  const Eigen::Matrix<double, 12, 6> PHt = P_pred.leftCols<6>();
+  const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(PHt.transpose()).transpose();
+  const Vec12 dx = K * nu;
+  x_ = inject(x_pred, dx.segment<3>(0), dx.segment<3>(3));
+  w_ += dx.segment<3>(6);
+  v_ += dx.segment<3>(9);
+  // Joseph form: stays symmetric positive definite.
+  Mat12 IKH = Mat12::Identity();
+  IKH.leftCols<6>() -= K;
+  P_ = IKH * P_pred * IKH.transpose() + K * cov * K.transpose();
+  P_ = 0.5 * (P_ + P_.transpose());
+  t_ = t;
+  step_.pose_upd = x_;
+  step_.w_upd = w_;
+  step_.v_upd = v_;
+  step_.P_upd = P_;
+  return x_;
+}
+
+std::optional<Pose> PoseEskf::predict(double t) const {
+  if (!have_) return std::nullopt;
+  const double dt = std::max(0.0, t - t_);
+  return Pose{exp_so3(w_ * dt) * x_.R, x_.t + v_ * dt};
+}
+
+std::vector<Pose> rts_smooth(std::span<const EskfStep> steps) {
+  const size_t n = steps.size();
+  std::vector<Pose> out(n);
+  if (n == 0) return out;
+  // Smoothed state of step k+1, walking backwards.
+  Pose xs = steps[n - 1].pose_upd;
+  Vec3 ws = steps[n - 1].w_upd, vs = steps[n - 1].v_upd;
+  Mat12 Ps = steps[n - 1].P_upd;
+  out[n - 1] = xs;
+  for (size_t k = n - 1; k-- > 0;) {
+    const EskfStep& cur = steps[k];
+    const EskfStep& nxt = steps[k + 1];
+    if (nxt.restart) {  // no model links k to k+1: the filter's answer stands
+      xs = cur.pose_upd;
+      ws = cur.w_upd;
+      vs = cur.v_upd;
+      Ps = cur.P_upd;
+      out[k] = xs;
+      continue;
+    }
+    // C = P_upd(k) F^T P_pred(k+1)^-1
+    const Mat12 C = nxt.P_pred.ldlt().solve(nxt.F * cur.P_upd).transpose();
+    Vec12 d;
+    d.segment<3>(0) = log_so3(xs.R * nxt.pose_pred.R.transpose());
+    d.segment<3>(3) = xs.t - nxt.pose_pred.t;
+    d.segment<3>(6) = ws - nxt.w_pred;
+    d.segment<3>(9) = vs - nxt.v_pred;
+    const Vec12 dx = C * d;
+    xs = inject(cur.pose_upd, dx.segment<3>(0), dx.segment<3>(3));
+    ws = cur.w_upd + dx.segment<3>(6);
+    vs = cur.v_upd + dx.segment<3>(9);
+    Ps = cur.P_upd + C * (Ps - nxt.P_pred) * C.transpose();
+    out[k] = xs;
+  }
+  return out;
+}
+
+}  // namespace earshot::tracker

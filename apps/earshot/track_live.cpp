@@ -39,6 +39,7 @@ struct LiveOptions {
   bool fast = false;
   double focal = 1280.0;
   std::string model_path;
+  std::string filter = "eskf";
   std::string listen;  // live: the pose source's listen address (empty: the spec's, 127.0.0.1 by default)
 };
 
@@ -75,6 +76,9 @@ void run_live(const LiveOptions& o) {
   }
   LiveConfig cfg;
   cfg.camera = Camera::with_focal(o.focal);
+  const auto filter = filter_kind_from(o.filter);
+  if (!filter) throw InputError::at("--filter", 0, "", "unknown filter '" + o.filter + "' (none, one-euro, median5, eskf)");
+  cfg.tracker.filter = *filter;
   if (!o.model_path.empty()) cfg.model = load_led_model(o.model_path);
   PoseSlot slot;
   const bool tty = ::isatty(::fileno(stdout)) != 0;
@@ -167,6 +171,8 @@ void add_track_live_commands(CLI::App& track) {
   live->add_option("--listen", lo->listen,
                    "Pose sources (opentrack, osc): the IPv4 address to listen on (default 127.0.0.1; 0.0.0.0 for every "
                    "interface: anyone on the network could then turn your head)");
+  live->add_option("--filter", lo->filter, "Pose filter for camera sources: eskf (Kalman, default), one-euro, median5, none")
+      ->capture_default_str();
   live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
   add_common(*live, *lo);
   live->callback([lo] { run_live(*lo); });

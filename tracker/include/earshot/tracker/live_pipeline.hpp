@@ -28,7 +28,9 @@ namespace earshot::tracker {
 struct LiveConfig {
   Camera camera = Camera::with_focal(1280.0);
   LedModel model = LedModel::thesis();
-  TrackerConfig tracker{.filter = FilterKind::one_euro};
+  /// eskf: never worse than the raw solve on any motion profile, beacon or
+  /// pixel mode of tests/bench/tracker_motion (One Euro was, on good beacons).
+  TrackerConfig tracker{.filter = FilterKind::eskf};
   double hold_s = 0.5;     ///< lost: hold the last pose this long
   double ease_s = 1.5;     ///< then ease to neutral over this long
   double resume_s = 0.15;  ///< blend back to tracking over this long

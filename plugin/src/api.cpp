@@ -731,6 +731,13 @@ ES_API ESenum esAttachTracker(ESworld h, const char* spec) {
   });
 }
 
+ES_API ESenum esWorldHrtf(ESworld h, const char* sofa_path) {
+  return control(h, "esWorldHrtf", [&](World& w) -> ESenum {
+    w.set_hrtf(sofa_path);  // Failure(ES_HRTF_ERROR) names the file
+    return ES_OK;
+  });
+}
+
 ES_API ESenum esRecenter(ESworld h) {
   return control(h, "esRecenter", [&](World& w) -> ESenum {
     w.recenter();
@@ -801,6 +808,7 @@ constexpr ESproctable kTable = {
     esAttachTracker, esRecenter, esGetHeadPose, esSetHeadPose,
     esRender,
     esGetTrackerState,  // ABI 1.1
+    esWorldHrtf,        // ABI 1.2
 };
 }  // namespace
 

@@ -42,7 +42,10 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   cfg.max_sources = p.max_sources;
   cfg.speed_of_sound = p.speed_of_sound;
   cfg.doppler_factor = propagation_delay() ? p.doppler_factor : 0.0;
+  renderer_config_ = cfg;
   renderer_ = std::make_unique<audio::Renderer>(hrtf, cfg);
+  fade_l_.assign(cfg.block, 0.0f);
+  fade_r_.assign(cfg.block, 0.0f);
   const audio::LateReverbType late =
       p.late_reverb == ES_REVERB_SCHROEDER ? audio::LateReverbType::schroeder : audio::LateReverbType::fdn;
   control_.room = audio::room_preset("generic");
@@ -62,7 +65,43 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   }
 }
 
-World::~World() = default;
+World::~World() {
+  std::unique_ptr<audio::Renderer> in(incoming_.exchange(nullptr));
+  std::unique_ptr<audio::Renderer> out(outgoing_.exchange(nullptr));
+}
+
+void World::reclaim_renderers() { std::unique_ptr<audio::Renderer> done(outgoing_.exchange(nullptr, std::memory_order_acquire)); }
+
+void World::set_hrtf(const char* path) {
+  reclaim_renderers();
+  audio::PreparedHrtf hrtf;
+  try {
+    std::optional<double> radius;
+    if (params_.head_radius_m > 0.0f) radius = static_cast<double>(params_.head_radius_m);
+    hrtf = audio::HrtfCache::shared().get(path ? path : hrtf::HrtfSet::kDefaultPath,
+                                          static_cast<double>(params_.sample_rate), params_.block_size, radius);
+  } catch (const std::exception& e) {
+    throw Failure{ES_HRTF_ERROR, e.what()};
+  }
+  auto next = std::make_unique<audio::Renderer>(hrtf, renderer_config_);
+  // A set handed over before and not picked up yet is replaced (and freed here).
+  std::unique_ptr<audio::Renderer> unused(incoming_.exchange(next.release(), std::memory_order_acq_rel));
+}
+
+void World::adopt_new_renderer() {
+  if (retired_ && !outgoing_.load(std::memory_order_relaxed)) outgoing_.store(retired_.release(), std::memory_order_release);
+  if (fading_ || retired_) return;  // one switch at a time; a newer set waits in incoming_
+  audio::Renderer* next = incoming_.exchange(nullptr, std::memory_order_acq_rel);
+  if (!next) return;
+  fading_ = std::move(renderer_);
+  renderer_.reset(next);  // adopted: it was released into incoming_ by set_hrtf
+  for (std::size_t i = 0; i < voices_; ++i) {
+    audio::SourceState silent;
+    silent.gain = 0.0;
+    (void)renderer_->add_source(silent);  // preallocated voices: no allocation
+  }
+  fade_frames_ = 0;
+}
 
 void World::publish() {
   snaps_[back_] = control_;  // same sizes: copies into the existing storage
@@ -270,11 +309,13 @@ void World::render(float* left, float* right) {
     head.position = tracked_.position;
     head.orientation = tracked_.orientation;
   }
+  adopt_new_renderer();
   audio::ListenerState l = s.listener;
   const Vec3 offset = rotate(l.orientation, head.position);
   for (int i = 0; i < 3; ++i) l.position[i] += offset[i];
   l.orientation = multiply(l.orientation, head.orientation);
   renderer_->set_listener(l);
+  if (fading_) fading_->set_listener(l);
   head.state = PoseState::tracking;
   head.t = static_cast<double>(blocks_.load(std::memory_order_relaxed)) * static_cast<double>(params_.block_size) /
            static_cast<double>(params_.sample_rate);
@@ -288,6 +329,7 @@ void World::render(float* left, float* right) {
     audio::SourceState silent;
     silent.gain = 0.0;
     (void)renderer_->add_source(silent);
+    if (fading_) (void)fading_->add_source(silent);
     ++voices_;
   }
   for (std::size_t i = 0; i < voices_; ++i) {
@@ -300,10 +342,28 @@ void World::render(float* left, float* right) {
     }
     renderer_->set_source(static_cast<int>(i), st);
     feed(i, sp, renderer_->source_input(static_cast<int>(i)), doppler_shift(sp, s));
+    if (fading_) {  // the old set hears the same input
+      fading_->set_source(static_cast<int>(i), st);
+      const auto from = renderer_->source_input(static_cast<int>(i));
+      std::copy(from.begin(), from.end(), fading_->source_input(static_cast<int>(i)).begin());
+    }
   }
 
   std::span<float> l_out(left, params_.block_size), r_out(right, params_.block_size);
   renderer_->render(l_out, r_out);
+  if (fading_) {
+    fading_->render(fade_l_, fade_r_);
+    for (std::size_t i = 0; i < params_.block_size; ++i) {
+      const std::size_t t = fade_frames_ + i;
+      const float g = t < kWarmFrames ? 0.0f
+                      : t >= kWarmFrames + kFadeFrames
+                          ? 1.0f
+                          : static_cast<float>(t - kWarmFrames) / static_cast<float>(kFadeFrames);
+      l_out[i] = g * l_out[i] + (1.0f - g) * fade_l_[i];
+      r_out[i] = g * r_out[i] + (1.0f - g) * fade_r_[i];
+    }
+    fade_frames_ += params_.block_size;
+  }
 
   // The room on the send bus, back into the next block's mix (as earshot render).
   if (s.room_serial != room_serial_seen_) {
@@ -316,6 +376,15 @@ void World::render(float* left, float* right) {
   if (s.reverb_enabled) {
     if (!reverb_was_on_) room_->reset();
     room_->process(renderer_->reverb_send(), renderer_->return_left(), renderer_->return_right());
+    if (fading_) {  // the room returns into both mixes (their weights sum to one)
+      std::copy(renderer_->return_left().begin(), renderer_->return_left().end(), fading_->return_left().begin());
+      std::copy(renderer_->return_right().begin(), renderer_->return_right().end(), fading_->return_right().begin());
+    }
+  }
+  if (fading_ && fade_frames_ >= kWarmFrames + kFadeFrames) {
+    // Faded out: back to the control side to be freed (or held until the slot is free).
+    if (!outgoing_.load(std::memory_order_relaxed)) outgoing_.store(fading_.release(), std::memory_order_release);
+    else retired_ = std::move(fading_);
   }
   reverb_was_on_ = s.reverb_enabled;
   blocks_.fetch_add(1, std::memory_order_relaxed);

@@ -10,6 +10,13 @@
 // same block. Play/stop/rewind are state plus a serial number, so they
 // survive the hand-off as state does.
 //
+// HRTF switch (esWorldHrtf): the control thread prepares a renderer for the
+// new set and hands it over through an atomic pointer; the audio thread
+// adopts it at a block start, renders the old and the new side by side on
+// the same input for kWarmFrames, crossfades over kFadeFrames, and hands the
+// old one back through another atomic pointer for the control thread to
+// free. No lock, no allocation on the audio thread.
+//
 // Buffers: the samples are owned by the control side. A deleted buffer's
 // samples are freed only when none of the three snapshots refers to them,
 // so the audio thread never reads freed memory.
@@ -113,6 +120,12 @@ class World {
   /// False while a source has it set.
   bool delete_buffer(ESbuffer b);
 
+  /// Switches to the SOFA set at `path` (nullptr: MIT KEMAR) while playing;
+  /// prepares it here (the process's HRTF cache). Throws Failure (ES_HRTF_ERROR).
+  void set_hrtf(const char* path);
+  /// Frames both sets render before the crossfade, and its length.
+  static constexpr std::size_t kWarmFrames = 512, kFadeFrames = 512;
+
   void attach_tracker(const char* spec);  ///< throws Failure
   void recenter();
   /// The tracker's status for the host (locks the tracker's status mutex,
@@ -156,6 +169,8 @@ class World {
 
   void publish();
   void reclaim_buffers();
+  void reclaim_renderers();  // control side: frees what the audio side handed back
+  void adopt_new_renderer();  // audio side, at a block start
   void feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double doppler_shift);
   [[nodiscard]] double doppler_shift(const SourceParams& sp, const Snapshot& s) const;
 
@@ -180,8 +195,16 @@ class World {
   std::atomic<bool> rendering_{false};
   std::atomic<std::thread::id> render_thread_{};
   std::atomic<std::uint64_t> blocks_{0};
+  audio::RendererConfig renderer_config_;
   std::unique_ptr<audio::Renderer> renderer_;
   std::unique_ptr<audio::RoomReverb> room_;
+  // The HRTF switch (see the top): owned while in these slots.
+  std::atomic<audio::Renderer*> incoming_{nullptr};  // control -> audio
+  std::atomic<audio::Renderer*> outgoing_{nullptr};  // audio -> control, to free
+  std::unique_ptr<audio::Renderer> fading_;          // audio side: the old set, until faded out
+  std::unique_ptr<audio::Renderer> retired_;         // audio side: faded out, outgoing_ was full
+  std::size_t fade_frames_ = 0;
+  std::vector<float> fade_l_, fade_r_;
   std::uint64_t room_serial_seen_ = 0;
   bool reverb_was_on_ = false;
   std::size_t voices_ = 0;  // renderer voices added so far

@@ -66,7 +66,7 @@ extern "C" {
  * minor version only appends functions to the table; a new major one breaks
  * it. */
 #define ES_ABI_VERSION_MAJOR 1u
-#define ES_ABI_VERSION_MINOR 1u /* 1: esGetTrackerState */
+#define ES_ABI_VERSION_MINOR 2u /* 1: esGetTrackerState; 2: esWorldHrtf */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
 /* The file name to dlopen: the soname, which changes with the major version
  * (plugin/CMakeLists.txt reads both from this header, so they cannot drift). */
@@ -273,6 +273,17 @@ ES_API ESenum esGetHeadPose(ESworld world, ESfloat *position, ESfloat *orientati
  * one, when no tracker is attached. Goes through the commit mode. */
 ES_API ESenum esSetHeadPose(ESworld world, const ESfloat *position, const ESfloat *orientation);
 
+/* ---- Switching the HRTF set while playing (esWorldHrtf, ABI 1.2) ------ */
+/* The world renders with the SOFA set at `sofa_path` from now on (NULL: MIT
+ * KEMAR from libmysofa). The set is loaded and prepared on the calling
+ * thread through the process's shared cache (the first use of a file in a
+ * process takes ~0.1 s for a set like KEMAR; later ones are shared). The
+ * audio thread then renders the old and the new set side by side for 512
+ * frames and crossfades over the next 512: no gap, no click; esRender stays
+ * free of locks and allocation. A file that cannot be used: ES_HRTF_ERROR,
+ * esGetErrorMessage names it, and the current set plays on. Control thread. */
+ES_API ESenum esWorldHrtf(ESworld world, const char *sofa_path);
+
 /* ---- Tracker state (esGetTrackerState, ABI 1.1) ----------------------- */
 /* What the attached tracker is doing, for a host's UI: its state, its rate,
  * the dots its camera sees and a message for people. */
@@ -363,6 +374,8 @@ typedef struct ESproctable {
   ESenum (*Render)(ESworld, float *, float *, ESuint);
   /* ABI 1.1 */
   ESenum (*GetTrackerState)(ESworld, EStrackerstate *);
+  /* ABI 1.2 */
+  ESenum (*WorldHrtf)(ESworld, const char *);
 } ESproctable;
 
 /* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),

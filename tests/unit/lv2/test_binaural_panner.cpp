@@ -3,6 +3,7 @@
 // independence, the azimuth convention, equality with the renderer it
 // wraps, and no allocation or lock in update() / process().
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -208,13 +209,18 @@ namespace {
 
 /// A set other than KEMAR, written by the fixture tool (once per process).
 audio::PreparedHrtf synthetic_set() {
-  static const std::string path = [] {
-    const std::string p = (std::filesystem::temp_directory_path() / "earshot_switch_test.sofa").string();
-    const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out '" + p +
-                            "' --length 64 --grid fibonacci:300";
-    if (std::system(cmd.c_str()) != 0) throw std::runtime_error("make_sofa.py failed");
-    return p;
-  }();
+  // Per process (ctest runs each test in its own), removed when it ends.
+  struct TempSofa {
+    std::string path;
+    TempSofa() : path((std::filesystem::temp_directory_path() / ("earshot_switch_test_" + std::to_string(getpid()) + ".sofa")).string()) {
+      const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out '" + path +
+                              "' --length 64 --grid fibonacci:300";
+      if (std::system(cmd.c_str()) != 0) throw std::runtime_error("make_sofa.py failed: " + cmd);
+    }
+    ~TempSofa() { std::filesystem::remove(path); }
+  };
+  static const TempSofa file;
+  const std::string& path = file.path;
   return audio::HrtfCache::shared().get(path, kRate, BinauralPanner::kBlock);
 }
 

@@ -39,13 +39,14 @@ set_tests_properties(plugin_exports plugin_bridge_exports PROPERTIES LABELS "uni
 # test_tracker_state also compiles the library's status mapping
 # (plugin/src/tracker_state.cpp) to map a scripted Wii Remote session.
 earshot_unit_test(plugin_tests
-  SOURCES plugin/test_plugin.cpp plugin/test_tracker_state.cpp audio/alloc_counter.cpp
+  SOURCES plugin/test_plugin.cpp plugin/test_tracker_state.cpp plugin/test_world_hrtf.cpp audio/alloc_counter.cpp
     ${PROJECT_SOURCE_DIR}/plugin/src/tracker_state.cpp
   LIBS earshot_plugin earshot::tracker earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
   # Misuse from other threads, control and audio threads together, the live
   # tracker thread behind a world (single-threaded API tests run once).
   THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*")
 target_include_directories(plugin_tests PRIVATE ${PROJECT_SOURCE_DIR}/plugin/src)
+target_compile_definitions(plugin_tests PRIVATE EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 
 # The OpenAL Soft bridge on the loopback device with HRTF.
 pkg_check_modules(OPENAL_TESTS REQUIRED IMPORTED_TARGET openal)

@@ -94,7 +94,8 @@ constexpr std::array kTableNames = {
     "esGetSourcefv", "esGetSourcei", "esSourceCallback", "esSourcePlay", "esSourcePause", "esSourceStop",
     "esSourceRewind", "esReverbPreset", "esReverbf", "esReverbi", "esGetReverbf", "esAttachTracker",
     "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender",
-    "esGetTrackerState"};  // ABI 1.1 appended
+    "esGetTrackerState",  // ABI 1.1 appended
+    "esWorldHrtf"};       // ABI 1.2 appended
 
 TEST(PluginAbi, TableVersionAndLayout) {
   const ESproctable* t = esGetProcTable(ES_ABI_VERSION_MAJOR);
@@ -108,8 +109,10 @@ TEST(PluginAbi, TableVersionAndLayout) {
   EXPECT_EQ(offsetof(ESproctable, GetErrorString), 8u);
   EXPECT_EQ(offsetof(ESproctable, Render), 8u + 39u * sizeof(void*));
   // ABI 1.1 appends esGetTrackerState after Render; nothing before it moves.
-  EXPECT_EQ(t->abi_version & 0xFFFFu, 1u);
   EXPECT_EQ(offsetof(ESproctable, GetTrackerState), 8u + 40u * sizeof(void*));
+  // ABI 1.2 appends esWorldHrtf.
+  EXPECT_EQ(t->abi_version & 0xFFFFu, 2u);
+  EXPECT_EQ(offsetof(ESproctable, WorldHrtf), 8u + 41u * sizeof(void*));
   EXPECT_EQ(sizeof(EStrackerdot), 20u) << "EStrackerdot changed: that is a new ABI";
   EXPECT_EQ(sizeof(EStrackerstate), 684u) << "EStrackerstate changed: that is a new ABI";
   EXPECT_EQ(sizeof(ESproctable), 8u + kTableNames.size() * sizeof(void*));

@@ -44,7 +44,7 @@ earshot_unit_test(plugin_tests
   LIBS earshot_plugin earshot::tracker earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
   # Misuse from other threads, control and audio threads together, the live
   # tracker thread behind a world (single-threaded API tests run once).
-  THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*")
+  THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*:WorldHrtf.*Thread*")
 target_include_directories(plugin_tests PRIVATE ${PROJECT_SOURCE_DIR}/plugin/src)
 target_compile_definitions(plugin_tests PRIVATE EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 

@@ -7,6 +7,9 @@
 #include <unistd.h>
 
 #include <array>
+#include <atomic>
+#include <chrono>
+#include <thread>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -154,4 +157,27 @@ TEST(WorldHrtf, ABadFileIsRefusedNamingItAndTheOldSetPlaysOn) {
   r.clear();
   world.render(40, l, r);
   EXPECT_NEAR(ild(l, r, 10 * kBlock, 30 * kBlock), before, 0.2);
+}
+
+// The control thread switches sets while another thread renders (also run
+// under ThreadSanitizer: the hand-over is two atomic pointers).
+TEST(WorldHrtf, SwitchingFromTheControlThreadWhileAnotherThreadRenders) {
+  World world;
+  std::atomic<bool> done{false};
+  std::atomic<int> bad{0};
+  std::thread audio([&] {
+    std::array<float, kBlock> bl{}, br{};
+    while (!done.load()) {
+      if (esRender(world.w, bl.data(), br.data(), kBlock) != ES_OK) ++bad;
+      for (std::size_t i = 0; i < kBlock; ++i)
+        if (!std::isfinite(bl[i]) || !std::isfinite(br[i])) ++bad;
+    }
+  });
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(esWorldHrtf(world.w, i % 2 ? nullptr : synthetic_sofa().c_str()), ES_OK) << esGetErrorMessage(world.w);
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  done.store(true);
+  audio.join();
+  EXPECT_EQ(bad.load(), 0);
 }

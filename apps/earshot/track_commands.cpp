@@ -7,11 +7,13 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "earshot/errors.hpp"
 #include "earshot/tracker/accuracy.hpp"
 #include "earshot/tracker/dot_tracker.hpp"
 #include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/led_model.hpp"
 #include "earshot/tracker/poses_csv.hpp"
 #include "earshot/tracker/simulator.hpp"
@@ -51,6 +53,7 @@ struct SolveOptions {
   std::string method = "lm";
   std::string filter = "auto";
   double gate_px = 4.0;
+  bool smooth = false;
 };
 
 /// What a tracking run did, and how well when ground truth is known.
@@ -149,17 +152,43 @@ void run_solve(const SolveOptions& o) {
   std::ifstream in(o.dots);
   if (!in) throw InputError::at(o.dots, 0, "", "cannot open file");
   DotsCsvReader reader(in, o.dots);
-  DotTracker tracker(o.cam.camera(), o.cam.model(), tracker_config(o.method, o.filter, o.gate_px));
+  const TrackerConfig cfg = tracker_config(o.method, o.filter, o.gate_px);
+  if (o.smooth && cfg.filter != FilterKind::eskf)
+    throw InputError::at("--smooth", 0, "", "smoothing runs over the eskf's model: use it with --filter eskf (or auto with --method lm)");
+  DotTracker tracker(o.cam.camera(), o.cam.model(), cfg);
   std::ofstream file;
   std::optional<PosesCsvWriter> writer;
   if (!o.out.empty()) writer.emplace(open_out(o.out, file));
   Summary sum;
-  while (auto f = reader.next()) {
-    const TrackResult r = tracker.process(*f);
-    if (writer) writer->write({r.t, r.state, r.pose});
-    sum.add(*f, r);
+  if (!o.smooth) {
+    while (auto f = reader.next()) {
+      const TrackResult r = tracker.process(*f);
+      if (writer) writer->write({r.t, r.state, r.pose});
+      sum.add(*f, r);
+    }
+  } else {
+    // Offline: filter the whole file forward, then smooth the tracked frames
+    // backwards (Rauch-Tung-Striebel over the same motion model).
+    std::vector<DotFrame> frames;
+    std::vector<TrackResult> results;
+    std::vector<EskfStep> steps;
+    std::vector<size_t> step_frame;
+    while (auto f = reader.next()) {
+      results.push_back(tracker.process(*f));
+      frames.push_back(std::move(*f));
+      if (results.back().state == PoseState::tracking) {
+        steps.push_back(tracker.eskf().last_step());
+        step_frame.push_back(results.size() - 1);
+      }
+    }
+    const std::vector<Pose> smooth = rts_smooth(steps);
+    for (size_t k = 0; k < smooth.size(); ++k) results[step_frame[k]].pose = smooth[k];
+    for (size_t i = 0; i < frames.size(); ++i) {
+      if (writer) writer->write({results[i].t, results[i].state, results[i].pose});
+      sum.add(frames[i], results[i]);
+    }
   }
-  sum.print(o.out == "-" ? stderr : stdout, o.method);
+  sum.print(o.out == "-" ? stderr : stdout, o.smooth ? o.method + " + eskf + RTS smoother" : o.method);
 }
 
 }  // namespace
@@ -195,6 +224,8 @@ void add_track_commands(CLI::App& track) {
   solve->add_option("--out,-o", solve_opts->out, "Poses CSV to write ('-' for stdout)");
   solve->add_option("--method", solve_opts->method, "Solver: lm (ours) or thesis (the 2009 reference)")->capture_default_str();
   solve->add_option("--filter", solve_opts->filter, "Filter: auto (eskf for lm, none for thesis), none, one-euro, median5, eskf (Kalman filter weighing each frame by its covariance)")->capture_default_str();
+  solve->add_flag("--smooth", solve_opts->smooth,
+                  "Offline: smooth the eskf's poses over the whole file (RTS: each pose also uses the frames after it)");
   solve->add_option("--gate", solve_opts->gate_px, "Largest accepted RMS reprojection error, px")->capture_default_str()->check(CLI::PositiveNumber);
   solve_opts->cam.add_to(*solve);
   solve->callback([solve_opts] { run_solve(*solve_opts); });

@@ -37,7 +37,8 @@ namespace earshot::app {
 namespace {
 
 struct DemoArgs {
-  std::string scene = "circles", room, tracker = "sim", hrtf, out = "earshot-demo.wav";
+  std::string scene = "circles", room, tracker = "sim", out = "earshot-demo.wav";
+  std::vector<std::string> hrtfs;  ///< --hrtf, repeatable: 'h' switches among them live
   double duration = -1;
   std::uint64_t seed = 1;
   std::string device, capture, capture_poses;
@@ -129,7 +130,7 @@ void run_demo(const DemoArgs& a) {
   }
   if (want_live(a)) {
     demo::LiveOptions o;
-    o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtf = a.hrtf;
+    o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtfs = a.hrtfs;
     o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
     o.window = !a.no_window, o.screenshot = a.screenshot;
     try {
@@ -164,7 +165,7 @@ void run_offline(const DemoArgs& a) {
   host::RenderOptions o;
   o.out = out;
   o.duration_s = duration;
-  o.hrtf = a.hrtf;
+  if (!a.hrtfs.empty()) o.hrtf = a.hrtfs.front();  // offline: the first set
   o.pose_track = poses;
   if (isatty(STDERR_FILENO)) o.progress = progress_bar;
   const StopSignals stop;  // as `earshot render`: a signal leaves a valid, shorter WAV
@@ -175,7 +176,7 @@ void run_offline(const DemoArgs& a) {
                              " is a valid WAV of the first " + std::to_string(st.frames) + " frames only");
   std::printf("  audio   %s: %.1f s binaural at %.0f Hz, peak %.3f (HRTF %s)\n", out.c_str(),
               double(st.frames) / scene.sample_rate, scene.sample_rate, st.peak,
-              a.hrtf.empty() ? "MIT KEMAR" : a.hrtf.c_str());
+              a.hrtfs.empty() ? "MIT KEMAR" : a.hrtfs.front().c_str());
   std::printf("Listen on headphones; the sources keep their places while the head turns. Replay with\n"
               "  earshot render --scene %s --pose-track %s --out again.wav\n", a.scene.c_str(), poses.c_str());
 }
@@ -210,7 +211,8 @@ void add_demo_command(CLI::App& app) {
                "otherwise says why and renders the same scene to --out. Live, the tracker's state and messages\n"
                "(no remote found, disconnected, lost) show in the window and on the terminal; a scene file\n"
                "with errors is named with its error and Circles plays instead.");
-  demo->add_option("--hrtf", a->hrtf, "SOFA file (default: MIT KEMAR from libmysofa)");
+  demo->add_option("--hrtf", a->hrtfs,
+                   "SOFA file (default: MIT KEMAR from libmysofa); repeat it to switch among sets live with 'h'");
   demo->add_option("--out,-o", a->out, "WAV file written when it cannot play")->capture_default_str();
   demo->add_option("--duration", a->duration, "Seconds (default: the scene's)");
   demo->add_option("--seed", a->seed, "Seed of the simulated head's walk")->capture_default_str();

@@ -11,10 +11,11 @@ struct Key {
   const char* does;
 };
 
-inline constexpr std::array<Key, 4> kKeys{{
+inline constexpr std::array<Key, 5> kKeys{{
     {"r", "recenter the head"},
     {"n", "next scene preset"},
     {"m", "next room preset"},
+    {"h", "next HRTF set (--hrtf)"},
     {"q or Esc", "quit"},
 }};
 

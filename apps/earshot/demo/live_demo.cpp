@@ -119,6 +119,7 @@ bool handle_key(char k, LiveSession& session, double t) {
     case 'r': case 'R': session.recenter(); break;
     case 'n': case 'N': session.next_scene(t); break;
     case 'm': case 'M': session.next_room(); break;
+    case 'h': case 'H': session.next_hrtf(); break;
     default: break;
   }
   return true;

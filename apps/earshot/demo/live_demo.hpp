@@ -7,11 +7,15 @@
 // the demo adds the device, the window, the keys and the status line.
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace earshot::demo {
 
 struct LiveOptions {
-  std::string scene = "circles", room, tracker = "sim", device, hrtf;
+  std::string scene = "circles", room, tracker = "sim", device;
+  /// SOFA sets to switch among with 'h' (esWorldHrtf); the first plays at
+  /// the start; "" or none: MIT KEMAR.
+  std::vector<std::string> hrtfs;
   unsigned long buffer = 128;
   double duration = -1;                 ///< seconds; <= 0: until 'q' / Ctrl-C
   std::filesystem::path capture;        ///< WAV of what the callback wrote

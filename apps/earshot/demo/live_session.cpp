@@ -27,7 +27,7 @@ ESworldparams world_params(const scenes::Scene& scene, const LiveOptions& o) {
   p.block_size = static_cast<ESuint>(o.buffer);
   p.max_sources = 64;  // room for any scene picked later
   if (scene.listener.head_radius_m) p.head_radius_m = static_cast<float>(*scene.listener.head_radius_m);
-  if (!o.hrtf.empty()) p.hrtf_path = o.hrtf.c_str();
+  if (!o.hrtfs.empty() && !o.hrtfs.front().empty()) p.hrtf_path = o.hrtfs.front().c_str();
   return p;
 }
 
@@ -65,7 +65,8 @@ LiveSession::LiveSession(NamedScene first, const LiveOptions& o)
       scene_name_(first.name),
       message_(first.error),
       scene_args_(scenes::preset_names()),
-      rooms_(host::room_names()) {
+      rooms_(host::room_names()),
+      hrtfs_(o.hrtfs.empty() ? std::vector<std::string>{""} : o.hrtfs) {
   // What can be picked: the presets (and the file given), their sounds and paths.
   lib_.add(stem(scene_name_), first.scene);
   for (const auto& name : scene_args_) {
@@ -117,6 +118,27 @@ void LiveSession::pick_scene(std::size_t i, double t) {
 }
 
 void LiveSession::next_scene(double t) { pick_scene(scene_pick_ + 1, t); }
+
+std::string LiveSession::hrtf_name() const {
+  const std::string& p = hrtfs_[hrtf_pick_];
+  return p.empty() ? "MIT KEMAR" : std::filesystem::path(p).filename().string();
+}
+
+void LiveSession::next_hrtf() {
+  if (hrtfs_.size() < 2) {
+    say("HRTF " + hrtf_name() + ": the only set (give more with --hrtf A.sofa --hrtf B.sofa)");
+    return;
+  }
+  const std::size_t next = (hrtf_pick_ + 1) % hrtfs_.size();
+  const std::string& p = hrtfs_[next];
+  // Prepared here (the control thread), crossfaded in by the audio thread.
+  if (esWorldHrtf(world_.id(), p.empty() ? nullptr : p.c_str()) != ES_OK) {
+    say(std::string("HRTF not changed: ") + esGetErrorMessage(world_.id()));
+    return;
+  }
+  hrtf_pick_ = next;
+  say("HRTF " + hrtf_name());
+}
 
 void LiveSession::pick_room(std::size_t i) {
   room_pick_ = i % rooms_.size();

@@ -72,15 +72,19 @@ class LiveSession {
   void load_scene_file(const std::string& arg, double t);
   void pick_room(std::size_t i);
   void next_room() { pick_room(room_pick_ + 1); }
+  /// The next SOFA set of --hrtf (esWorldHrtf: no gap while it switches).
+  void next_hrtf();
+  /// The set playing, as shown: its file name, or "MIT KEMAR".
+  [[nodiscard]] std::string hrtf_name() const;
 
  private:
   host::WorldHandle world_;
   double rate_;
   host::SceneSources sources_;
   std::string scene_name_, message_;
-  std::vector<std::string> scene_args_, rooms_;
+  std::vector<std::string> scene_args_, rooms_, hrtfs_;
   Library lib_;
-  std::size_t scene_pick_ = 0, room_pick_ = 0;
+  std::size_t scene_pick_ = 0, room_pick_ = 0, hrtf_pick_ = 0;
   std::uint64_t generation_ = 0;
   host::TrackerStatus tracker_;
 };

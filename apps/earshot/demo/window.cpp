@@ -175,6 +175,7 @@ void read_keys(WindowActions& a) {
   if (ImGui::IsKeyPressed(GLFW_KEY_R, false)) a.recenter = true;
   if (ImGui::IsKeyPressed(GLFW_KEY_N, false)) a.next_scene = true;
   if (ImGui::IsKeyPressed(GLFW_KEY_M, false)) a.next_room = true;
+  if (ImGui::IsKeyPressed(GLFW_KEY_H, false)) a.next_hrtf = true;
   if (ImGui::IsKeyPressed(GLFW_KEY_Q, false) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) a.quit = true;
 }
 
@@ -198,6 +199,9 @@ void audio_column(const WindowModel& m, WindowActions& a) {
   else ImGui::Text("xruns 0");
   ImGui::SameLine();
   ImGui::Text("  blocks %llu", m.blocks);
+  ImGui::Text("HRTF %s", m.hrtf.c_str());
+  ImGui::SameLine();
+  if (ImGui::Button("Next (H)")) a.next_hrtf = true;
   if (ImGui::Button("Recenter (R)")) a.recenter = true;
   ImGui::SameLine();
   if (ImGui::Button("Quit (Q / Esc)")) a.quit = true;

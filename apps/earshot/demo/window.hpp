@@ -32,7 +32,7 @@ struct ViewDot {
 
 /// What the window shows, refreshed by the control loop each frame.
 struct WindowModel {
-  std::string scene, room, device, message;
+  std::string scene, room, device, message, hrtf;
   std::array<float, 3> head_position{};
   std::array<float, 4> head_orientation{1, 0, 0, 0};  ///< w, x, y, z
   double time_s = 0, load = 0, load_max = 0, latency_ms = 0;
@@ -53,7 +53,7 @@ struct WindowModel {
 /// What the person did this frame.
 struct WindowActions {
   bool quit = false, recenter = false, room_changed = false, scene_changed = false, next_scene = false,
-       next_room = false, load_file = false;
+       next_room = false, next_hrtf = false, load_file = false;
   std::vector<int> changed_sources;  ///< gain or distance attenuation moved
   std::vector<int> changed_sounds, changed_paths, changed_positions;
 };

@@ -131,6 +131,8 @@ void WindowView::Impl::apply(const WindowActions& act, LiveSession& session, dou
   else if (act.load_file)
     session.load_scene_file(model.scene_file_input, t);
   if (session.scene_generation() != generation) describe(session);
+  if (act.next_hrtf) session.next_hrtf();
+  model.hrtf = session.hrtf_name();
   if (act.next_room)
     session.next_room();
   else if (act.room_changed)

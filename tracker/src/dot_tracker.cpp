@@ -22,6 +22,7 @@ struct DotTracker::Hypothesis {
   ConstantVelocity cv;
   double cost_sum = 0.0;  ///< sum of squared RMS reprojection errors
   int frames = 0;
+  long id = 0;  ///< which hypothesis this is (the eskf restarts when the output changes hypothesis)
   double rms = 0.0;
   int dots = 0;
   std::array<int, kSlots> slot_led{-1, -1, -1, -1};
@@ -49,6 +50,9 @@ void DotTracker::reset() {
   median_.reset();
   eskf_.reset();
   pixel_noise_.reset();
+  output_hyp_id_ = 0;
+  output_slot_led_ = {-1, -1, -1, -1};
+  last_eskf_dots_ = 4;
   cv_.reset();
   last_output_.reset();
   last_raw_.reset();
@@ -133,6 +137,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       h.frames = 1;
       h.dots = l.dots.count;
       h.slot_led = l.slot_led;
+      h.id = ++next_hyp_id_;
       hyps_.push_back(h);
     }
     if (!hyps_.empty()) {
@@ -166,6 +171,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
         h.frames = 1;
         h.dots = 3;
         h.slot_led = l->slot_led;
+        h.id = ++next_hyp_id_;
         hyps_.push_back(h);
       }
     }
@@ -193,6 +199,15 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     r.rms_px = best->rms;
     r.dots_used = best->dots;
     r.slot_led = best->slot_led;
+    // Another explanation of the dots than last frame's (a re-acquisition,
+    // the rival winning, or a dot seen under another LED's label): its pose
+    // is not a measurement of the same track, so the eskf starts afresh.
+    bool relabelled = best->id != output_hyp_id_;
+    for (size_t s = 0; s < kSlots; ++s)
+      if (best->slot_led[s] >= 0 && output_slot_led_[s] >= 0 && best->slot_led[s] != output_slot_led_[s]) relabelled = true;
+    if (relabelled) eskf_.reset();
+    output_hyp_id_ = best->id;
+    output_slot_led_ = best->slot_led;
   }
   return r;
 }
@@ -211,7 +226,16 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
         for (size_t s = 0; s < kSlots; ++s)
           if (r.slot_led[s] >= 0 && frame.slots[s]) dots.add(r.slot_led[s], *frame.slots[s]);
         pixel_noise_.add(r.rms_px * r.rms_px * dots.count, dots.count);
-        r.pose = eskf_.update(r.raw_pose, pose_covariance(r.raw_pose, dots.view(), cam_, model_, pixel_variance()), r.t);
+        const Mat6 cov = pose_covariance(r.raw_pose, dots.view(), cam_, model_, pixel_variance());
+        r.pose = eskf_.update(r.raw_pose, cov, r.t);
+        // Three dots can fit two poses far apart, which no covariance
+        // describes; when a fourth dot settles it away from the filter's
+        // track, the four-dot pose is the truth: restart from it.
+        if (eskf_.last_rejected() && dots.count >= 4 && last_eskf_dots_ < 4) {
+          eskf_.reset();
+          r.pose = eskf_.update(r.raw_pose, cov, r.t);
+        }
+        last_eskf_dots_ = dots.count;
         break;
       }
     }

@@ -90,6 +90,9 @@ class DotTracker {
   PoseOneEuro one_euro_;
   MedianPoseFilter median_;
   PoseEskf eskf_;
+  long next_hyp_id_ = 0, output_hyp_id_ = 0;
+  std::array<int, kSlots> output_slot_led_{-1, -1, -1, -1};
+  int last_eskf_dots_ = 4;  ///< dots behind the eskf's last measurement
   PixelNoiseEstimator pixel_noise_;
   ConstantVelocity cv_;
   std::optional<Pose> last_output_;

@@ -16,12 +16,11 @@
 //             sound localization", JASA 42:489).
 //  orienting  a calmer seated head plus quick turns toward a sound (Poisson,
 //             0.4/s, 20-60 deg, within +-30 deg of the front): minimum-jerk
-//             yaw trajectories whose peak
-//             velocity grows with amplitude (the head "main sequence",
-//             Zangemeister, Jones & Stark 1981, Exp. Neurol. 71:76), about
-//             8 x amplitude per second (+-15 %), capped at 500 deg/s, i.e.
-//             ~0.23 s per turn (Iwaya & Katz 2019, ICA: orienting velocity grows with
-//             the rotation needed; reaction ~260 ms).
+//             yaw trajectories whose peak velocity grows with amplitude (the
+//             head "main sequence", Zangemeister, Jones & Stark 1981, Exp.
+//             Neurol. 71:76), 8 x amplitude per second (+-15 %), capped at
+//             500 deg/s, i.e. ~0.23 s per turn (Iwaya & Katz 2019, ICA:
+//             orienting speed grows with the rotation needed).
 //  nodding    seated plus bouts (0.2/s, 1-3 s) of pitch nods at 1.5-3 Hz,
 //             4-10 deg amplitude, under a smooth envelope.
 //  walking    walking in place / on a treadmill facing the camera: vertical
@@ -35,9 +34,11 @@
 //             tremor (Deuschl et al. 1998, Mov. Disord. 13 S3:2).
 //  mixed      10-20 s segments of the five above in random order.
 //
-// Their angular speed (p50 / p99 / max, deg/s over 3 seeds x 30 s) is
-// checked against documented bands by tests/unit/tracker/test_simulator.cpp
-// and printed by `earshot track simulate`.
+// Angular speed, p50 / p99 / max deg/s (seeds 1001-1003, 60 s each):
+// walk 59/128/174, seated 28/73/102, orienting 13/180/471, nodding
+// 21/105/179, walking 33/67/92, tremor 25/73/106, mixed 23/136/392. The
+// bands tests/unit/tracker/test_simulator.cpp holds them to are there;
+// `earshot track simulate` prints each file's.
 #pragma once
 
 #include <cstdint>

@@ -160,7 +160,7 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   Mat12 IKH = Mat12::Identity();
   IKH.leftCols<6>() -= K;
   P_ = IKH * P_pred * IKH.transpose() + K * cov * K.transpose();
-  P_ = 0.5 * (P_ + P_.transpose());
+  P_ = Mat12(0.5 * (P_ + P_.transpose()));  // a temporary: no aliasing through the transpose
   t_ = t;
   step_.pose_upd = x_;
   step_.w_upd = w_;

@@ -166,7 +166,7 @@ std::string sofa_header_problem(std::span<const std::uint8_t> f, std::uint64_t m
   }
   // Every object header libmysofa could be sent to starts with "OHDR", and
   // every continuation it follows with "OCHK": look at all of them.
-  std::vector<Block> todo;
+  std::vector<Block> pending;
   static constexpr char kOhdr[] = "OHDR";
   for (auto it = f.begin(); (it = std::search(it, f.end(), kOhdr, kOhdr + 4)) != f.end(); ++it) {
     Cursor c{f, static_cast<std::uint64_t>(it - f.begin()) + 4};
@@ -176,20 +176,20 @@ std::string sofa_header_problem(std::span<const std::uint8_t> f, std::uint64_t m
     if (flags & 0x20) c.pos += 16;  // time stamps
     const auto chunk = c.value(1u << (flags & 3));
     if (!chunk) continue;
-    todo.push_back({c.pos, c.pos + *chunk, flags});
+    pending.push_back({c.pos, c.pos + *chunk, flags});
   }
   constexpr std::size_t kMaxBlocks = 100000;
   std::set<std::uint64_t> seen;
-  for (std::size_t i = 0; i < todo.size(); ++i) {
+  for (std::size_t i = 0; i < pending.size(); ++i) {
     if (i >= kMaxBlocks) return "more than " + std::to_string(kMaxBlocks) + " HDF5 object header blocks";
-    const Block b = todo[i];
+    const Block b = pending[i];
     if (!seen.insert(b.start).second) continue;
     std::vector<Block> more;
     if (std::string p = messages(f, b, lim, more); !p.empty()) return p;
     for (const Block& m : more) {
       // Only a block that starts with "OCHK" is read as one.
       const std::uint64_t sig = m.start - 4;
-      if (sig + 4 <= f.size() && std::memcmp(f.data() + sig, "OCHK", 4) == 0) todo.push_back(m);
+      if (sig + 4 <= f.size() && std::memcmp(f.data() + sig, "OCHK", 4) == 0) pending.push_back(m);
     }
   }
   return {};

@@ -18,6 +18,8 @@ packages=(
   libbenchmark-dev       # benchmarks (tests/bench)
   libhidapi-dev          # Wii Remote over HID (hidraw backend), live tracker
   liblo-dev              # OSC pose input, live tracker
+  libapriltag-dev        # AprilTag detection for the webcam source (beacon=apriltag)
+  libv4l-dev             # V4L2 webcam capture (libv4l2 converts the camera's formats)
   libopencv-dev          # reference PnP solver, only in tests and benchmarks
   libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks, the plugin's OpenAL bridge
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes

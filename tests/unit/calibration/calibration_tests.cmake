@@ -1,0 +1,1 @@
+# calibration tests (filled in by the work on this area).

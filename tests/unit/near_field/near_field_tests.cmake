@@ -1,0 +1,1 @@
+# near_field tests (filled in by the work on this area).

@@ -1,0 +1,1 @@
+# webcam tests (filled in by the work on this area).

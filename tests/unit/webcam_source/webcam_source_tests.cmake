@@ -1,0 +1,1 @@
+# webcam_source tests (filled in by the work on this area).

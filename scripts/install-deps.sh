@@ -20,6 +20,7 @@ packages=(
   liblo-dev              # OSC pose input, live tracker
   libapriltag-dev        # AprilTag detection for the webcam source (beacon=apriltag)
   libv4l-dev             # V4L2 webcam capture (libv4l2 converts the camera's formats)
+  libyaml-cpp-dev        # camera calibration files in OpenCV's YAML layout (webcam source)
   libopencv-dev          # reference PnP solver, only in tests and benchmarks
   libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks, the plugin's OpenAL bridge
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes

@@ -10,8 +10,9 @@
 //     the tag itself (corner k of the tag is model point k).
 //
 // Conventions: pixel (0, 0) is the centre of the top-left pixel, x grows to
-// the right and y downwards (the layout of the frame in memory). The caller
-// maps these to the tracker's camera model (and undistorts them) itself.
+// the right and y downwards (the layout of the frame in memory): the
+// tracker's camera frame (+x right, +y down, +z forward), so points pass to
+// it unchanged once undistorted (the caller undistorts them).
 //
 // detect() is called on the tracker thread, one frame at a time; a detector
 // keeps its scratch buffers between calls and is not shared between threads.
@@ -60,5 +61,35 @@ class DotDetector {
   /// "leds", "apriltag tag36h11 id 0", ... for status lines.
   [[nodiscard]] virtual std::string describe() const = 0;
 };
+
+struct LedOptions {
+  double min_area_px = 1.0;     ///< smaller blobs are noise
+  double max_area_px = 2500.0;  ///< larger ones are lamps and windows, not LEDs
+};
+
+struct AprilTagOptions {
+  std::string family = "tag36h11";  ///< tag36h11, tag25h9, tag16h5, tagStandard41h12, ...
+  int id = -1;                      ///< only this id; -1: the best-decoded tag of any id
+  float decimate = 1.0f;            ///< libapriltag's quad_decimate (2 halves the cost at 1280x720)
+};
+
+/// The LED detector: the four brightest compact blobs, threshold from the
+/// frame's own statistics.
+[[nodiscard]] std::unique_ptr<DotDetector> make_led_detector(const LedOptions& options = {});
+
+/// The AprilTag detector. Throws std::invalid_argument naming the family when
+/// libapriltag does not know it.
+[[nodiscard]] std::unique_ptr<DotDetector> make_apriltag_detector(const AprilTagOptions& options = {});
+
+/// A tag's corners in label order (Detection::points of a tag): 0 top-left,
+/// 1 top-right, 2 bottom-right, 3 bottom-left of the printed tag held
+/// upright. `side_mm` is the side of the tag's outer black square (the
+/// corners libapriltag finds). In the tag's frame, mm: the tag upright and
+/// facing the camera at the identity pose of the tracker's camera frame
+/// (+x right, +y down), in the plane z = 0; its face looks along -z.
+[[nodiscard]] constexpr std::array<std::array<double, 3>, 4> tag_corners_mm(double side_mm) {
+  const double h = side_mm / 2.0;
+  return {{{-h, -h, 0.0}, {h, -h, 0.0}, {h, h, 0.0}, {-h, h, 0.0}}};
+}
 
 }  // namespace earshot::webcam

@@ -24,9 +24,9 @@ void quantise(const std::vector<float>& values, float& scale, std::int16_t* out)
 HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
     : block_(block),
       parts_(std::max<std::size_t>(1, block ? (set.filter_length() + block - 1) / block : 1)),
-      measurements_(set.measurement_count()) {
+      measurements_(set.all_measurement_count()) {
   if (block == 0) throw std::invalid_argument("HrtfSpectra: block must be > 0");
-  const std::size_t P = 2 * stride(), M = set.measurement_count();
+  const std::size_t P = 2 * stride(), M = set.all_measurement_count();
   head_.assign(M * 2 * P, 0.0f);
   tail_.assign(M * 2 * (parts_ - 1) * P, 0);
   scale_.assign(M * 2 * (parts_ - 1), 0.0f);

@@ -41,7 +41,7 @@ HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
 
 struct Renderer::Voice {
   Voice(std::size_t block, double max_delay, double rate)
-      : air(rate), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block) {}
+      : air(rate), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block), near_l(block), near_r(block) {}
   SourceState state;
   AirAbsorption air;
   FractionalDelay delay;  // the source's signal, read once per ear (propagation delay plus that ear's ITD)
@@ -52,12 +52,22 @@ struct Renderer::Voice {
   std::uint32_t triangle = hrtf::SphereTriangulation::kNoHint;  // where the direction was last block
   Vec3 direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
   hrtf::Interpolation recipe{};           // measurements, weights and delays for that direction
+  // A near source (nearer than the farthest shell): each ear has its own
+  // direction (parallax); `recipe` is then the left ear's and these the right's.
+  bool split = false;
+  std::size_t shell = 0;  // the shell the recipes are in
+  Vec3 direction_r{2, 2, 2};
+  hrtf::Interpolation recipe_r{};
+  std::uint32_t triangle_r = hrtf::SphereTriangulation::kNoHint;
+  NearFieldFilter near_l, near_r;  // the near-field level, per ear
+  std::array<float, NearFieldTable::kTaps> taps{};
+  std::array<double, 2> near_shift{0.0, 0.0};  // seconds added to each ear's delay (near_field.hpp)
   // The panning into the bank at the end of the last two blocks: which
   // measurements, and per ear the gain each got (blend weight x ear gain x
   // distance gain). This block's gains follow a quadratic B-spline through
   // them and the new ones (see pan()).
   struct Pan {
-    std::array<std::uint32_t, 3> index{};
+    std::array<std::array<std::uint32_t, 3>, 2> index{};  // [ear]: the same for both unless split
     std::array<std::array<float, 3>, 2> gain{};
   };
   std::array<Pan, 2> pans{};  // [0]: two blocks ago, [1]: last block
@@ -74,7 +84,7 @@ Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.se
   if (!hrtf_) throw std::invalid_argument("Renderer: no HRTF set");
   if (cfg_.block == 0) throw std::invalid_argument("Renderer: block must be > 0");
   if (!hrtf.spectra || hrtf.spectra->block() != cfg_.block ||
-      hrtf.spectra->measurements() != hrtf_->measurement_count())
+      hrtf.spectra->measurements() != hrtf_->all_measurement_count())
     throw std::invalid_argument("Renderer: the HRTF spectra are not for this set and block");
   if (std::abs(hrtf_->sample_rate() - cfg_.sample_rate) > 0.5)
     throw std::invalid_argument("Renderer: HRTF set is not at the render rate");
@@ -82,6 +92,9 @@ Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.se
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
   bank_ = std::make_unique<DirectionBank>(hrtf.spectra);
+  std::vector<double> shells(hrtf_->shell_count());
+  for (std::size_t i = 0; i < shells.size(); ++i) shells[i] = hrtf_->shell(i).radius_m;
+  if (cfg_.near_field) near_field_ = NearFieldTable::shared(cfg_.sample_rate, shells);
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
     voices_.push_back(std::make_unique<Voice>(cfg_.block, max_delay, cfg_.sample_rate));
@@ -90,12 +103,13 @@ Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.se
 
 Renderer::~Renderer() = default;
 
-void Renderer::pan(Voice& v, const hrtf::Interpolation& in, double gain) {
+void Renderer::pan(Voice& v, const hrtf::Interpolation& in_l, const hrtf::Interpolation& in_r, double gain) {
   // Each ear's blended filter is sum_k w_k h_k scaled to the interpolated
   // energy (ear_gain); the bank applies it as gains on the measurements.
   Voice::Pan now;
-  now.index = in.blend.index;
   for (std::size_t ear = 0; ear < 2; ++ear) {
+    const hrtf::Interpolation& in = ear == 0 ? in_l : in_r;
+    now.index[ear] = in.blend.index;
     const double g = in.ear_gain(ear) * gain;
     for (std::size_t k = 0; k < 3; ++k) now.gain[ear][k] = static_cast<float>(in.blend.weight[k] * g);
   }
@@ -111,20 +125,20 @@ void Renderer::pan(Voice& v, const hrtf::Interpolation& in, double gain) {
   // block-rate corners of a ramp) do not spread sidebands that the HRTF's
   // 2-4 kHz boost would lift; it lags the linear ramp by half a block.
   const std::array<const Voice::Pan*, 3> path{&v.pans[0], &v.pans[1], &now};
-  std::array<std::uint32_t, 9> seen{};
-  std::size_t n_seen = 0;
-  for (const Voice::Pan* p : path)
-    for (const std::uint32_t m : p->index)
-      if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(n_seen), m) ==
-          seen.begin() + static_cast<std::ptrdiff_t>(n_seen))
-        seen[n_seen++] = m;
   for (std::size_t ear = 0; ear < 2; ++ear) {
+    std::array<std::uint32_t, 9> seen{};
+    std::size_t n_seen = 0;
+    for (const Voice::Pan* p : path)
+      for (const std::uint32_t m : p->index[ear])
+        if (std::find(seen.begin(), seen.begin() + static_cast<std::ptrdiff_t>(n_seen), m) ==
+            seen.begin() + static_cast<std::ptrdiff_t>(n_seen))
+          seen[n_seen++] = m;
     const std::span<const float> x = ear == 0 ? v.ear_l : v.ear_r;
     for (std::size_t j = 0; j < n_seen; ++j) {
       std::array<float, 3> g{};  // a, b, c
       for (std::size_t t = 0; t < 3; ++t)
         for (std::size_t k = 0; k < 3; ++k)
-          if (path[t]->index[k] == seen[j]) g[t] = path[t]->gain[ear][k];
+          if (path[t]->index[ear][k] == seen[j]) g[t] = path[t]->gain[ear][k];
       if (g[0] == 0.0f && g[1] == 0.0f && g[2] == 0.0f) continue;
       bank_->add(seen[j], ear, x, {0.5f * (g[0] + g[1]), g[1] - g[0], 0.5f * (g[0] - 2.0f * g[1] + g[2])});
     }
@@ -140,6 +154,12 @@ int Renderer::add_source(const SourceState& s) {
   v.ear_delay = {-1.0, -1.0};
   v.triangle = hrtf::SphereTriangulation::kNoHint;
   v.direction = {2, 2, 2};
+  v.split = false;
+  v.shell = 0;
+  v.direction_r = {2, 2, 2};
+  v.triangle_r = hrtf::SphereTriangulation::kNoHint;
+  v.near_l.reset();
+  v.near_r.reset();
   v.panned = false;
   v.moved_from.reset();
   v.air.reset();
@@ -178,18 +198,55 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
       const Voice& next = *voices_[s + 1];
       if (next.ear_delay[0] >= 0.0) next.delay.prefetch(B, next.ear_delay[0], next.ear_delay[1]);
       if (next.panned)
-        for (const std::uint32_t m : next.pans[1].index) bank_->prefetch(m);
+        for (const std::uint32_t m : next.pans[1].index[0]) bank_->prefetch(m);
     }
     ListenerState frame = listener;
     if (v.state.relative) frame = ListenerState{};  // position is already head-relative
     HeadFrame hr = head_frame(v.state.position, frame);
     if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
-    if (hr.direction != v.direction) {
-      v.recipe = hrtf_->interpolate(hr.direction, v.triangle);
-      v.triangle = v.recipe.blend.triangle;
-      v.direction = hr.direction;
+    // Nearer than the farthest shell: the shell nearest the source, and
+    // each ear's own direction to it (near_field.hpp).
+    const bool near = near_field_ && !near_field_->empty() && hr.distance < hrtf_->shell(0).radius_m;
+    if (!near) {
+      if (hr.direction != v.direction || v.split) {
+        v.recipe = hrtf_->interpolate(hr.direction, v.triangle);
+        v.triangle = v.recipe.blend.triangle;
+        v.direction = hr.direction;
+        v.split = false;
+        v.shell = 0;
+      }
+    } else {
+      const std::size_t shell = hrtf_->nearest_shell(hr.distance);
+      const double R = hrtf_->shell(shell).radius_m, a = near_field_->head().radius_m;
+      const double r = std::max(hr.distance, near_field_->min_distance_m());
+      const Vec3 at{hr.direction[0] * r, hr.direction[1] * r, hr.direction[2] * r};
+      const Vec3 dl = parallax_direction(at, a, R), dr = parallax_direction(at, -a, R);
+      if (dl != v.direction || !v.split || shell != v.shell) {
+        v.recipe = hrtf_->interpolate_in_shell(dl, shell, v.triangle);
+        v.triangle = v.recipe.blend.triangle;
+        v.direction = dl;
+      }
+      if (dr != v.direction_r || !v.split || shell != v.shell) {
+        v.recipe_r = hrtf_->interpolate_in_shell(dr, shell, v.triangle_r);
+        v.triangle_r = v.recipe_r.blend.triangle;
+        v.direction_r = dr;
+      }
+      v.split = true;
+      v.shell = shell;
+      // The sphere's path to each ear from the source, less its path from
+      // where that ear's HRTF was measured: the measured delays then give
+      // the near ITD (zero at the shell).
+      const hrtf::SphereHead& head = near_field_->head();
+      const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
+      v.near_shift = {hrtf::sphere_path_delay(r, std::acos(uy), head) -
+                          hrtf::sphere_path_delay(R, std::acos(std::clamp(dl[1], -1.0, 1.0)), head),
+                      hrtf::sphere_path_delay(r, std::acos(-uy), head) -
+                          hrtf::sphere_path_delay(R, std::acos(std::clamp(-dr[1], -1.0, 1.0)), head)};
     }
-    const hrtf::Delays d = v.recipe.delays;  // the ITD follows every move, through the delay lines
+    if (!v.split) v.near_shift = {0.0, 0.0};
+    const hrtf::Interpolation& right_recipe = v.split ? v.recipe_r : v.recipe;
+    // The ITD follows every move, through the delay lines.
+    const hrtf::Delays d{v.recipe.delays.left_s + v.near_shift[0], right_recipe.delays.right_s + v.near_shift[1]};
     // Propagation delay to the listener's ear now from where the source was
     // when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
     // the source's own motion changes the distance. Gliding the delay line
@@ -225,7 +282,16 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
     v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
     v.ear_delay = to;
-    pan(v, v.recipe, g);
+    if (near || v.near_l.active() || v.near_r.active()) {
+      // Each ear's level from the sphere model, for its angle to the source.
+      const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
+      const std::span<const float> taps(v.taps);
+      const bool on_l = near_field_->taps(v.shell, hr.distance, std::acos(uy), v.taps);
+      v.near_l.process(v.ear_l, on_l ? taps : std::span<const float>{});
+      const bool on_r = near_field_->taps(v.shell, hr.distance, std::acos(-uy), v.taps);
+      v.near_r.process(v.ear_r, on_r ? taps : std::span<const float>{});
+    }
+    pan(v, v.recipe, right_recipe, g);
     const auto send = static_cast<float>(v.state.reverb_send);
     if (send != 0.0f) {
       const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));

@@ -216,12 +216,13 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
 
   for (std::size_t i = 0; i < std::size_t{h->R} * h->M * h->N; ++i)
     if (!std::isfinite(h->DataIR.values[i])) bad(path, "impulse responses hold non-finite samples");
-  // A set measured at several distances: the farthest shell is used (the
-  // nearest to the far field the renderer models; its own distance cue is
-  // the propagation delay and level a scene gives). Shells are told apart
-  // by a gap of more than 10% between sorted radii, so a single distance
-  // measured with some scatter stays one shell.
-  std::vector<std::uint32_t> keep;  // the measurements used, in file order
+  // A set measured at several distances keeps every shell, farthest first
+  // (the far field the renderer models for any source beyond it; nearer
+  // shells serve nearer sources). Shells are told apart by a gap of more
+  // than 10% between sorted radii, so a single distance measured with some
+  // scatter stays one shell.
+  std::vector<std::uint32_t> keep;  // the measurements used: shell by shell, file order within one
+  std::vector<HrtfSet::ShellData> shells;
   {
     std::vector<double> radius(h->M);
     for (std::size_t m = 0; m < h->M; ++m) {
@@ -232,14 +233,39 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
     std::vector<double> sorted = radius;
     std::sort(sorted.begin(), sorted.end());
-    double inner = sorted.front();  // the farthest shell's nearest radius
+    std::vector<double> inner{sorted.front()};  // each shell's nearest radius, ascending
     for (std::size_t i = 1; i < sorted.size(); ++i)
-      if (sorted[i] > 1.1 * sorted[i - 1]) inner = sorted[i];
-    for (std::uint32_t m = 0; m < h->M; ++m)
-      if (radius[m] >= inner) keep.push_back(m);
+      if (sorted[i] > 1.1 * sorted[i - 1]) inner.push_back(sorted[i]);
+    for (std::size_t g = inner.size(); g-- > 0;) {
+      const double hi = g + 1 < inner.size() ? inner[g + 1] : std::numeric_limits<double>::infinity();
+      std::vector<std::uint32_t> members;
+      double sum = 0.0;
+      for (std::uint32_t m = 0; m < h->M; ++m)
+        if (radius[m] >= inner[g] && radius[m] < hi) members.push_back(m), sum += radius[m];
+      const bool farthest = shells.empty();
+      if (members.size() < 4) {
+        if (farthest)
+          bad(path, "the farthest measurement distance has " + std::to_string(members.size()) +
+                        " measurements, fewer than 4");
+        continue;  // a nearer shell too sparse to blend: dropped
+      }
+      std::vector<Vec3> unit(members.size());
+      for (std::size_t k = 0; k < members.size(); ++k) {
+        const float* p = h->SourcePosition.values + 3 * std::size_t{members[k]};
+        unit[k] = {p[0] / radius[members[k]], p[1] / radius[members[k]], p[2] / radius[members[k]]};
+      }
+      HrtfSet::ShellData shell;
+      try {
+        shell.triangulation = std::make_shared<const SphereTriangulation>(unit);
+      } catch (const std::invalid_argument& e) {
+        if (farthest) bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
+        continue;  // a nearer shell that is a ring or a hemisphere: dropped
+      }
+      shell.info = {sum / static_cast<double>(members.size()), keep.size(), members.size()};
+      keep.insert(keep.end(), members.begin(), members.end());
+      shells.push_back(std::move(shell));
+    }
   }
-  if (keep.size() < 4)
-    bad(path, "the farthest measurement distance has " + std::to_string(keep.size()) + " measurements, fewer than 4");
 
   HrtfSet set;
   set.rate_ = sample_rate;
@@ -276,7 +302,7 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     // whole set, so every interaural cue is kept.
     std::size_t front = 0;
     double best = -2.0;
-    for (std::size_t m = 0; m < M; ++m) {
+    for (std::size_t m = 0; m < shells.front().info.count; ++m) {
       const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};
       const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
       if (r > 0.0 && p[0] / r > best) best = p[0] / r, front = m;
@@ -287,12 +313,10 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     for (float& v : set.hrirs_) v = static_cast<float>(v * scale);
   }
   set.delays_.resize(M);
-  std::vector<Vec3> unit(M);
   for (std::size_t m = 0; m < M; ++m) {
     const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};  // x front, y left, z up
     const double x = p[0], y = p[1], z = p[2];
     const double r = std::sqrt(x * x + y * y + z * z);  // > 0, checked above
-    unit[m] = {x / r, y / r, z / r};
     set.dirs_[m] = {std::atan2(y, x), std::asin(z / r)};
   }
   // Data.Delay (samples at the file's rate) adds to each ear: 1 x R or M x R.
@@ -326,7 +350,6 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   const std::size_t L = N + static_cast<std::size_t>(std::ceil(std::max(0.0, margin - earliest)));
   set.length_ = L;
   set.filters_.assign(2 * M * L, 0.0f);
-  double min_delay = std::numeric_limits<double>::infinity();
   std::vector<std::array<double, 2>> raw(M);
   for (std::size_t m = 0; m < M; ++m)
     for (std::size_t ear = 0; ear < 2; ++ear) {
@@ -334,12 +357,19 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
       const double shift = onsets[2 * m + ear] - margin;
       shift_earlier(hrir, shift, std::span<float>(set.filters_.data() + (2 * m + ear) * L, L));
       raw[m][ear] = shift + file_delay(m, ear);
-      min_delay = std::min(min_delay, raw[m][ear]);
     }
-  set.removed_delay_s_ = min_delay / sample_rate;
+  // Each shell's own flight time (its earliest arrival) is latency, not a
+  // cue: removed from its delays (shell 0's is removed_delay_s()).
   set.energies_.resize(M);
+  for (std::size_t s = 0; s < shells.size(); ++s) {
+    const auto& info = shells[s].info;
+    double min_delay = std::numeric_limits<double>::infinity();
+    for (std::size_t m = info.first; m < info.first + info.count; ++m) min_delay = std::min({min_delay, raw[m][0], raw[m][1]});
+    if (s == 0) set.removed_delay_s_ = min_delay / sample_rate;
+    for (std::size_t m = info.first; m < info.first + info.count; ++m)
+      set.delays_[m] = {(raw[m][0] - min_delay) / sample_rate, (raw[m][1] - min_delay) / sample_rate};
+  }
   for (std::size_t m = 0; m < M; ++m) {
-    set.delays_[m] = {(raw[m][0] - min_delay) / sample_rate, (raw[m][1] - min_delay) / sample_rate};
     for (std::size_t ear = 0; ear < 2; ++ear) {
       double e = 0.0;
       for (float v : set.filter(m, static_cast<Ear>(ear))) e += double(v) * v;
@@ -347,12 +377,6 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
     set.log_energies_.push_back({std::log(set.energies_[m][0]), std::log(set.energies_[m][1])});
   }
-  try {
-    set.triangulation_ = std::make_shared<const SphereTriangulation>(unit);
-  } catch (const std::invalid_argument& e) {
-    bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
-  }
-  const SphereTriangulation& tri = *set.triangulation_;
   // Each pair of measurements (a vertex with itself, or an edge shared by two
   // triangles) is multiplied out once.
   std::unordered_map<std::uint64_t, std::array<double, 2>> pair_dots;
@@ -364,15 +388,20 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
         it->second[ear] = detail::dot_double(set.filter(i, static_cast<Ear>(ear)), set.filter(j, static_cast<Ear>(ear)));
     return it->second;
   };
-  set.gram_.resize(tri.triangle_count());
-  for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
-    const auto v = tri.vertices(t);
-    constexpr std::array<std::array<int, 2>, 6> kPairs{{{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
-    for (std::size_t k = 0; k < 6; ++k) {
-      const auto d = pair_dot(v[kPairs[k][0]], v[kPairs[k][1]]);
-      for (std::size_t ear = 0; ear < 2; ++ear) set.gram_[t][ear][k] = d[ear];
+  for (auto& shell : shells) {
+    const SphereTriangulation& tri = *shell.triangulation;
+    const auto first = static_cast<std::uint32_t>(shell.info.first);
+    shell.gram.resize(tri.triangle_count());
+    for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
+      const auto v = tri.vertices(t);
+      constexpr std::array<std::array<int, 2>, 6> kPairs{{{0, 0}, {1, 1}, {2, 2}, {0, 1}, {0, 2}, {1, 2}}};
+      for (std::size_t k = 0; k < 6; ++k) {
+        const auto d = pair_dot(first + v[kPairs[k][0]], first + v[kPairs[k][1]]);
+        for (std::size_t ear = 0; ear < 2; ++ear) shell.gram[t][ear][k] = d[ear];
+      }
     }
   }
+  set.shells_ = std::move(shells);
   return set;
 }
 
@@ -382,9 +411,18 @@ Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32
                      hint);
 }
 
-Interpolation HrtfSet::interpolate(const Vec3& d, std::uint32_t hint) const {
+std::size_t HrtfSet::nearest_shell(double distance_m) const {
+  std::size_t best = 0;
+  for (std::size_t s = 1; s < shells_.size(); ++s)
+    if (std::abs(distance_m - shells_[s].info.radius_m) < std::abs(distance_m - shells_[best].info.radius_m)) best = s;
+  return best;
+}
+
+Interpolation HrtfSet::interpolate_in_shell(const Vec3& d, std::size_t shell, std::uint32_t hint) const {
+  const ShellData& sh = shells_[std::min(shell, shells_.size() - 1)];
   Interpolation out;
-  out.blend = triangulation_->locate(d, hint);
+  out.blend = sh.triangulation->locate(d, hint);
+  for (auto& i : out.blend.index) i += static_cast<std::uint32_t>(sh.info.first);
   std::array<double, 2> log_energy{0.0, 0.0};  // the weighted mean of the measured ears' log energies
   for (std::size_t k = 0; k < 3; ++k) {
     const double w = out.blend.weight[k];
@@ -397,7 +435,7 @@ Interpolation HrtfSet::interpolate(const Vec3& d, std::uint32_t hint) const {
   out.energy = {std::exp(log_energy[0]), std::exp(log_energy[1])};
   const std::array<double, 3>& w = out.blend.weight;
   for (std::size_t ear = 0; ear < 2; ++ear) {
-    const auto& g = gram_[out.blend.triangle][ear];  // w^T G w
+    const auto& g = sh.gram[out.blend.triangle][ear];  // w^T G w
     out.blend_energy[ear] = w[0] * w[0] * g[0] + w[1] * w[1] * g[1] + w[2] * w[2] * g[2] +
                             2.0 * (w[0] * w[1] * g[3] + w[0] * w[2] * g[4] + w[1] * w[2] * g[5]);
   }

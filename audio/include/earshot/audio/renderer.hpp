@@ -1,7 +1,9 @@
 // The block renderer: sources around one listener, to a stereo (binaural)
 // block. Per source and block, with the listener's pose read once:
 //   direction and distance relative to the head -> HRTF interpolation (three
-//   measurements, their weights, the ITD) -> per-ear fractional delay (ITD +
+//   measurements, their weights, the ITD; for a source nearer than the set's
+//   measurement distance, each ear from its own direction and with the
+//   near-field level of near_field.hpp) -> per-ear fractional delay (ITD +
 //   propagation delay: a moving source's changing delay is its Doppler
 //   shift) -> each ear panned, with the distance gain, into the three
 //   measured directions' convolvers of a DirectionBank, the weights ramping
@@ -33,6 +35,7 @@
 #include "earshot/audio/fractional_delay.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
+#include "earshot/audio/near_field.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
@@ -48,6 +51,11 @@ struct RendererConfig {
   double speed_of_sound = 343.3;   ///< m/s, OpenAL's default
   double doppler_factor = 1.0;     ///< 0: no propagation delay, no Doppler
   double master_gain = 1.0;
+  /// Sources nearer than the set's measurement distance get parallax and
+  /// the near-field level (near_field.hpp); off: every source is rendered
+  /// from the farthest shell as if in its far field (the distance model
+  /// alone sets its level).
+  bool near_field = true;
 };
 
 struct ListenerState {
@@ -106,13 +114,14 @@ class Renderer {
 
  private:
   struct Voice;
-  void pan(Voice& v, const hrtf::Interpolation& in, double gain);
+  void pan(Voice& v, const hrtf::Interpolation& left, const hrtf::Interpolation& right, double gain);
 
   std::shared_ptr<const hrtf::HrtfSet> hrtf_;
   RendererConfig cfg_;
   ListenerState listener_;
   std::vector<std::unique_ptr<Voice>> voices_;
   std::size_t active_ = 0;
+  std::shared_ptr<const NearFieldTable> near_field_;  // shared by every renderer at this rate and set; null when off
   std::unique_ptr<DirectionBank> bank_;  // the measured directions' convolvers, shared by every voice
   std::vector<float> send_, ret_l_, ret_r_, mix_l_, mix_r_;
   double limiter_gain_ = 1.0;

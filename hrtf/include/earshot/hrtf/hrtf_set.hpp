@@ -27,9 +27,18 @@
 // Level: the whole set is scaled so that white noise from straight ahead
 // keeps its level (the frontal HRIRs' mean ear energy is 1).
 //
-// What the file holds: sets measured at several distances use the farthest
-// shell only (shells: radii separated by gaps of more than 10%; the others
-// are dropped, so measurement_count() counts that shell). Receiver 0 may be
+// What the file holds: a set measured at several distances keeps every
+// shell (shells: radii separated by gaps of more than 10%; a shell's
+// distance is the mean of its radii). Shell 0 is the farthest: the one
+// measurement_count(), direction(i) for i below it and the plain
+// interpolate() use, as for a single-distance set; nearer shells follow it in
+// the measurement indices (all_measurement_count() counts every shell), each
+// triangulated on its own. The renderer reads a source's HRTFs from the shell
+// nearest its distance (nearest_shell(); no blending between shells) and
+// corrects only from that shell's distance to the source's
+// (earshot/audio/near_field.hpp). A nearer shell that cannot be triangulated
+// (fewer than 4 directions, a ring, a hemisphere) is dropped. Each shell's
+// own common flight time is removed from its delays. Receiver 0 may be
 // either ear: ReceiverPosition's y (to the left) says which, and a set with
 // the right ear first is swapped on load.
 //
@@ -121,7 +130,21 @@ class HrtfSet {
   /// Taps of every onset-free filter: the responses' length plus room for
   /// the margin kept before the earliest onset.
   [[nodiscard]] std::size_t filter_length() const { return length_; }
-  [[nodiscard]] std::size_t measurement_count() const { return dirs_.size(); }
+  /// Measurements of the farthest shell (shell 0), indices 0 .. this - 1.
+  [[nodiscard]] std::size_t measurement_count() const { return shells_.front().info.count; }
+  /// Measurements of every shell: filter(), delays() and direction() take
+  /// any index below this.
+  [[nodiscard]] std::size_t all_measurement_count() const { return dirs_.size(); }
+
+  /// The measurement distances, farthest first.
+  struct Shell {
+    double radius_m = 0.0;
+    std::size_t first = 0, count = 0;  ///< its measurement indices
+  };
+  [[nodiscard]] std::size_t shell_count() const { return shells_.size(); }
+  [[nodiscard]] const Shell& shell(std::size_t s) const { return shells_[s].info; }
+  /// The shell whose distance is nearest `distance_m` (0 beyond the farthest).
+  [[nodiscard]] std::size_t nearest_shell(double distance_m) const;
   [[nodiscard]] Direction direction(std::size_t i) const { return dirs_[i]; }
   /// The measured onset-free filter of measurement i.
   [[nodiscard]] std::span<const float> filter(std::size_t i, Ear ear) const;
@@ -144,6 +167,12 @@ class HrtfSet {
   /// The same for a unit vector in SOFA's frame (x ahead, y left, z up):
   /// no trigonometry unless the ITD is parametric.
   [[nodiscard]] Interpolation interpolate(const Vec3& direction,
+                                          std::uint32_t hint = SphereTriangulation::kNoHint) const {
+    return interpolate_in_shell(direction, 0, hint);
+  }
+  /// The same within shell `shell` (its blend names measurement indices of
+  /// that shell; `hint` a triangle of it).
+  [[nodiscard]] Interpolation interpolate_in_shell(const Vec3& direction, std::size_t shell,
                                           std::uint32_t hint = SphereTriangulation::kNoHint) const;
 
   /// With a head radius, lookup returns Woodworth delays (both ears around
@@ -162,11 +191,16 @@ class HrtfSet {
   std::vector<Delays> delays_;
   std::vector<std::array<double, 2>> energies_;  // [measurement][ear] of the filters
   std::vector<std::array<double, 2>> log_energies_;  // their logarithms, blended per direction
-  // [triangle][ear][00, 11, 22, 01, 02, 12]: inner products of the triangle's
-  // three filters, so a blend's energy costs nine multiplies, not a pass.
-  std::vector<std::array<std::array<double, 6>, 2>> gram_;
+  struct ShellData {
+    Shell info;
+    std::shared_ptr<const SphereTriangulation> triangulation;
+    // [triangle][ear][00, 11, 22, 01, 02, 12]: inner products of the
+    // triangle's three filters, so a blend's energy costs nine multiplies,
+    // not a pass.
+    std::vector<std::array<std::array<double, 6>, 2>> gram;
+  };
+  std::vector<ShellData> shells_;  // farthest first
   double removed_delay_s_ = 0.0;
-  std::shared_ptr<const SphereTriangulation> triangulation_;
   std::optional<double> parametric_radius_;
 };
 

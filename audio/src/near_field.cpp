@@ -1,0 +1,225 @@
+#include "earshot/audio/near_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <tuple>
+
+namespace earshot::audio {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr std::size_t kFft = 512;    // design grid: the FIR's magnitude is sampled on kFft / 2 + 1 bins
+constexpr std::size_t kFade = 16;    // taps faded out at the FIR's end (half a Hann window)
+constexpr double kAngleStep = kPi / static_cast<double>(NearFieldTable::kAngles - 1);
+
+/// In-place radix-2 FFT of kFft points (sign -1 forward, +1 inverse,
+/// unscaled). Design time only.
+void fft(std::vector<std::complex<double>>& x, int sign) {
+  static const std::vector<std::complex<double>> twiddle = [] {  // e^{-2 pi i k / kFft}
+    std::vector<std::complex<double>> t(kFft / 2);
+    for (std::size_t k = 0; k < t.size(); ++k) t[k] = std::polar(1.0, -2.0 * kPi * static_cast<double>(k) / kFft);
+    return t;
+  }();
+  const std::size_t n = x.size();
+  for (std::size_t i = 1, j = 0; i < n; ++i) {
+    std::size_t bit = n >> 1;
+    for (; j & bit; bit >>= 1) j ^= bit;
+    j |= bit;
+    if (i < j) std::swap(x[i], x[j]);
+  }
+  for (std::size_t len = 2; len <= n; len <<= 1) {
+    const std::size_t step = kFft / len;
+    for (std::size_t i = 0; i < n; i += len)
+      for (std::size_t k = 0; k < len / 2; ++k) {
+        const std::complex<double> w = sign < 0 ? twiddle[k * step] : std::conj(twiddle[k * step]);
+        const auto u = x[i + k], v = x[i + k + len / 2] * w;
+        x[i + k] = u + v;
+        x[i + k + len / 2] = u - v;
+      }
+  }
+}
+
+/// The minimum-phase FIR (first `out.size()` taps, end faded) with the
+/// magnitude whose natural logarithm is `log_mag` on bins 0..kFft/2
+/// (the real cepstrum folded onto positive quefrencies).
+void minimum_phase(const std::vector<double>& log_mag, std::span<float> out) {
+  std::vector<std::complex<double>> x(kFft);
+  for (std::size_t k = 0; k <= kFft / 2; ++k) x[k] = log_mag[k];
+  for (std::size_t k = kFft / 2 + 1; k < kFft; ++k) x[k] = log_mag[kFft - k];
+  fft(x, +1);
+  for (auto& v : x) v = v.real() / static_cast<double>(kFft);
+  for (std::size_t n = 1; n < kFft / 2; ++n) x[n] *= 2.0;
+  for (std::size_t n = kFft / 2 + 1; n < kFft; ++n) x[n] = 0.0;
+  fft(x, -1);
+  for (auto& v : x) v = std::exp(v);
+  fft(x, +1);
+  const std::size_t T = out.size();
+  for (std::size_t n = 0; n < T; ++n) {
+    double w = 1.0;
+    if (n + kFade >= T) w = 0.5 * (1.0 + std::cos(kPi * static_cast<double>(n + kFade + 1 - T) / (kFade + 1)));
+    out[n] = static_cast<float>(x[n].real() / static_cast<double>(kFft) * w);
+  }
+}
+
+/// The angle (0..pi) from the ear's axis at which the ray from the ear at
+/// distance a through a source at (r, theta) meets the circle of radius R.
+double parallax_angle(double a, double r, double theta, double R) {
+  const double sx = r * std::cos(theta), sy = r * std::sin(theta);
+  const double dx = sx - a, dy = sy;
+  const double dd = dx * dx + dy * dy;
+  if (dd < 1e-18) return 0.0;
+  const double ed = a * dx;
+  const double t = (-ed + std::sqrt(std::max(0.0, ed * ed - dd * (a * a - R * R)))) / dd;
+  return std::atan2(std::abs(t * dy), a + t * dx);
+}
+
+}  // namespace
+
+Vec3 parallax_direction(const Vec3& s, double ear_y, double R) {
+  const Vec3 d{s[0], s[1] - ear_y, s[2]};
+  const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  if (dd < 1e-18) return {0.0, ear_y >= 0.0 ? 1.0 : -1.0, 0.0};
+  const double ed = ear_y * d[1];
+  const double t = (-ed + std::sqrt(std::max(0.0, ed * ed - dd * (ear_y * ear_y - R * R)))) / dd;
+  const Vec3 p{t * d[0], ear_y + t * d[1], t * d[2]};
+  const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  return {p[0] / n, p[1] / n, p[2] / n};
+}
+
+NearFieldTable::NearFieldTable(double sample_rate, std::span<const double> shells_m, hrtf::SphereHead head)
+    : rate_(sample_rate), head_(head), r_min_(1.15 * head.radius_m), shells_(shells_m.begin(), shells_m.end()) {
+  if (shells_.empty()) throw std::invalid_argument("NearFieldTable: no measurement distance");
+  if (!(sample_rate > 0.0)) throw std::invalid_argument("NearFieldTable: sample rate must be > 0");
+  const double far = shells_.front();
+  if (!(far > r_min_)) return;  // nothing is nearer than the set: no table
+  inv_near_ = 1.0 / r_min_;
+  inv_far_ = 1.0 / far;
+  taps_.assign(shells_.size() * kDistances * kAngles * kTaps, 0.0f);
+  // The model is smooth in frequency: evaluated at 0 Hz and kEval
+  // frequencies spaced evenly in log f up to Nyquist, its log magnitude is
+  // interpolated (linearly in log f) onto the design bins. One series per
+  // distance and frequency serves every angle.
+  constexpr std::size_t kEval = 72;
+  constexpr double kLowest = 40.0;
+  std::vector<double> freqs{0.0};
+  for (std::size_t k = 0; k < kEval; ++k)
+    freqs.push_back(kLowest * std::pow(0.5 * rate_ / kLowest, static_cast<double>(k) / (kEval - 1)));
+  std::vector<double> log_ratio(kDistances * kAngles * freqs.size());  // [distance][angle][frequency]
+  std::vector<double> log_mag(kFft / 2 + 1);
+  // Design bin b lies between evaluated frequencies bin_from[b] and the next,
+  // a fraction bin_t[b] of the way (linear in f below the lowest, else in log f).
+  std::vector<std::size_t> bin_from(kFft / 2 + 1);
+  std::vector<double> bin_t(kFft / 2 + 1);
+  for (std::size_t b = 0, k = 1; b <= kFft / 2; ++b) {
+    const double f = static_cast<double>(b) * rate_ / kFft;
+    while (k + 1 < freqs.size() && freqs[k] < f) ++k;  // freqs[k - 1] < f <= freqs[k]
+    bin_from[b] = k - 1;
+    bin_t[b] = k == 1 ? std::min(1.0, f / freqs[1])
+                      : std::clamp(std::log(f / freqs[k - 1]) / std::log(freqs[k] / freqs[k - 1]), 0.0, 1.0);
+  }
+  std::vector<double> radii(kDistances), theta_p(kDistances * kAngles);
+  for (std::size_t d = 0; d < kDistances; ++d)
+    radii[d] = 1.0 / (inv_near_ + (inv_far_ - inv_near_) * static_cast<double>(d) / (kDistances - 1));
+  for (std::size_t s = 0; s < shells_.size(); ++s) {
+    const double R = std::max(shells_[s], r_min_);
+    for (std::size_t d = 0; d < kDistances; ++d)
+      for (std::size_t a = 0; a < kAngles; ++a)
+        theta_p[d * kAngles + a] = parallax_angle(head.radius_m, radii[d], static_cast<double>(a) * kAngleStep, R);
+    for (std::size_t k = 0; k < freqs.size(); ++k) {
+      const hrtf::RigidSphereSeries at_shell(R, freqs[k], head);
+      for (std::size_t d = 0; d < kDistances; ++d) {
+        const hrtf::RigidSphereSeries at_source(radii[d], freqs[k], head);
+        for (std::size_t a = 0; a < kAngles; ++a) {
+          const double num = std::abs(at_source.at(static_cast<double>(a) * kAngleStep));
+          const double den = std::abs(at_shell.at(theta_p[d * kAngles + a]));
+          log_ratio[(d * kAngles + a) * freqs.size() + k] = std::log(std::max(num, 1e-6) / std::max(den, 1e-6));
+        }
+      }
+    }
+    for (std::size_t d = 0; d < kDistances; ++d)
+      for (std::size_t a = 0; a < kAngles; ++a) {
+        const double* lr = log_ratio.data() + (d * kAngles + a) * freqs.size();
+        for (std::size_t b = 0; b <= kFft / 2; ++b)
+          log_mag[b] = lr[bin_from[b]] + (lr[bin_from[b] + 1] - lr[bin_from[b]]) * bin_t[b];
+        minimum_phase(log_mag, std::span<float>(taps_.data() + ((s * kDistances + d) * kAngles + a) * kTaps, kTaps));
+      }
+  }
+}
+
+std::shared_ptr<const NearFieldTable> NearFieldTable::shared(double sample_rate, std::span<const double> shells_m,
+                                                             hrtf::SphereHead head) {
+  using Key = std::tuple<double, std::vector<double>, double, double>;
+  static std::mutex mutex;
+  static std::map<Key, std::shared_ptr<const NearFieldTable>> tables;
+  const Key key{sample_rate, std::vector<double>(shells_m.begin(), shells_m.end()), head.radius_m, head.speed_of_sound};
+  const std::lock_guard lock(mutex);
+  auto& t = tables[key];
+  if (!t) t = std::make_shared<const NearFieldTable>(sample_rate, shells_m, head);
+  return t;
+}
+
+bool NearFieldTable::taps(std::size_t shell, double r, double theta, std::span<float> out) const {
+  if (taps_.empty() || shell >= shells_.size() || out.size() < kTaps) return false;
+  if (shell == 0 && r >= shells_.front()) return false;
+  const double u = 1.0 / std::clamp(r, r_min_, shells_.front());
+  const double gd = std::clamp((inv_near_ - u) / (inv_near_ - inv_far_), 0.0, 1.0) * (kDistances - 1);
+  const double ga = std::clamp(std::abs(theta), 0.0, kPi) / kAngleStep;
+  const auto d0 = std::min(static_cast<std::size_t>(gd), kDistances - 2);
+  const auto a0 = std::min(static_cast<std::size_t>(ga), kAngles - 2);
+  const auto fd = static_cast<float>(gd - static_cast<double>(d0)), fa = static_cast<float>(ga - static_cast<double>(a0));
+  const float w00 = (1 - fd) * (1 - fa), w01 = (1 - fd) * fa, w10 = fd * (1 - fa), w11 = fd * fa;
+  const float *h00 = fir(shell, d0, a0), *h01 = fir(shell, d0, a0 + 1), *h10 = fir(shell, d0 + 1, a0),
+              *h11 = fir(shell, d0 + 1, a0 + 1);
+  for (std::size_t k = 0; k < kTaps; ++k) out[k] = w00 * h00[k] + w01 * h01[k] + w10 * h10[k] + w11 * h11[k];
+  return true;
+}
+
+NearFieldFilter::NearFieldFilter(std::size_t block) : block_(block) {
+  line_.assign(NearFieldTable::kTaps - 1 + block, 0.0f);
+  from_[0] = 1.0f;
+}
+
+void NearFieldFilter::reset() {
+  std::fill(line_.begin(), line_.end(), 0.0f);
+  from_.fill(0.0f);
+  from_[0] = 1.0f;
+  from_unity_ = true;
+}
+
+void NearFieldFilter::process(std::span<float> x, std::span<const float> taps) {
+  constexpr std::size_t T = NearFieldTable::kTaps;
+  const std::size_t B = std::min(block_, x.size());
+  std::copy_n(x.data(), B, line_.data() + T - 1);
+  const bool to_unity = taps.size() < T;
+  if (to_unity) {
+    to_.fill(0.0f);
+    to_[0] = 1.0f;
+  } else {
+    std::copy_n(taps.data(), T, to_.data());
+  }
+  if (!(from_unity_ && to_unity)) {
+    const bool same = std::memcmp(from_.data(), to_.data(), sizeof(float) * T) == 0;
+    for (std::size_t i = 0; i < B; ++i) {
+      const float* in = line_.data() + T - 1 + i;  // in[-k] is x[i - k]
+      float a = 0.0f, b = 0.0f;
+      for (std::size_t k = 0; k < T; ++k) a += from_[k] * in[-static_cast<std::ptrdiff_t>(k)];
+      if (same) {
+        x[i] = a;
+        continue;
+      }
+      for (std::size_t k = 0; k < T; ++k) b += to_[k] * in[-static_cast<std::ptrdiff_t>(k)];
+      const float r = static_cast<float>(i + 1) / static_cast<float>(B);
+      x[i] = a + r * (b - a);
+    }
+  }
+  std::copy_n(line_.data() + B, T - 1, line_.data());
+  from_ = to_;
+  from_unity_ = to_unity;
+}
+
+}  // namespace earshot::audio

@@ -508,6 +508,7 @@ CalibrationResult calibrate_led_model(const std::vector<DotFrame>& frames, const
   adj.linearise(s, k);
   const auto [rms_after, outliers] = adj.rms(s, k);
   res.rms_after_px = rms_after;
+  res.frames_used = used.size();
   res.outlier_dots = outliers;
   const int nS = adj.structure_size();
   const double dof = 2.0 * 4.0 * static_cast<double>(used.size()) - 6.0 * static_cast<double>(used.size()) - (nS - 7);

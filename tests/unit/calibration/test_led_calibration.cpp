@@ -82,7 +82,9 @@ TEST(LedCalibration, RecoversTheModelFromAShortSeatedSession) {
   const auto err = led_errors_after_alignment(r.model.leds_mm, truth.leds_mm);
   EXPECT_LT(max_of(err), 0.5) << err[0] << " " << err[1] << " " << err[2] << " " << err[3];
   EXPECT_LT(r.rms_after_px, r.rms_before_px);
-  EXPECT_LT(r.rms_after_px, 0.5);                      // integer pixels: ~0.41 px per dot
+  // Integer pixels: the per-frame pose takes up 6 of each frame's 8 noisy
+  // coordinates, so the residual (~0.2 px per dot) is below the noise.
+  EXPECT_LT(r.rms_after_px, 0.3);
   EXPECT_NEAR(r.pixel_sigma_px, 1.0 / std::sqrt(12.0), 0.08);  // rounding noise per coordinate
   for (const auto& s : r.led_sigma_mm) {
     EXPECT_GT(s.minCoeff(), 0.0);

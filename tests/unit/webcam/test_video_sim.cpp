@@ -84,7 +84,9 @@ TEST(VideoSim, LedCentroidsOnCleanFrames) {
               e.mean_dx(), e.mean_dy());
   ASSERT_GT(e.frames, 100);
   EXPECT_EQ(e.found, e.frames);
-  EXPECT_LT(e.rms(), 0.1);
+  // Measured 0.024 px (seed 1): the background's texture under the spot and
+  // 8-bit rounding; a bias of a tenth of that would show.
+  EXPECT_LT(e.rms(), 0.05);
 }
 
 TEST(VideoSim, LedCentroidsOnRealisticFrames) {
@@ -96,7 +98,7 @@ TEST(VideoSim, LedCentroidsOnRealisticFrames) {
   std::printf("LEDs, realistic 640x480: found %ld / %ld, RMS %.4f px\n", e.found, e.frames, e.rms());
   ASSERT_GT(e.frames, 100);
   EXPECT_GE(e.found, e.frames * 98 / 100);
-  EXPECT_LT(e.rms(), 0.15);
+  EXPECT_LT(e.rms(), 0.06);  // measured 0.027 px: the bright, saturated spots shrug off the noise
 }
 
 TEST(VideoSim, TagCornersOnCleanFrames) {
@@ -108,7 +110,10 @@ TEST(VideoSim, TagCornersOnCleanFrames) {
               e.mean_dx(), e.mean_dy());
   ASSERT_GT(e.frames, 50);
   EXPECT_GE(e.found, e.frames * 95 / 100);
-  EXPECT_LT(e.rms(), 0.3);
+  EXPECT_LT(e.rms(), 0.2);  // measured 0.105 px: libapriltag's edge refinement
+  // The detector's mean offset (kCentreShift) is this measurement's.
+  EXPECT_LT(std::abs(e.mean_dx()), 0.05);
+  EXPECT_LT(std::abs(e.mean_dy()), 0.05);
 }
 
 TEST(VideoSim, TagCornersOnRealisticFrames) {
@@ -119,7 +124,7 @@ TEST(VideoSim, TagCornersOnRealisticFrames) {
   std::printf("tag, realistic 640x480: found %ld / %ld, RMS %.4f px\n", e.found, e.frames, e.rms());
   ASSERT_GT(e.frames, 50);
   EXPECT_GE(e.found, e.frames * 90 / 100);
-  EXPECT_LT(e.rms(), 0.4);
+  EXPECT_LT(e.rms(), 0.25);  // measured 0.118 px
 }
 
 TEST(VideoSim, DeterministicPerSeedWithDriftingExposure) {

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "earshot/audio/crossfade.hpp"
+
 namespace earshot::lv2 {
 
 PannerSwitch::PannerSwitch(std::unique_ptr<BinauralPanner> first)
@@ -43,8 +45,7 @@ void PannerSwitch::process(const float* in, float* left, float* right, std::size
     current_->process(in_.data(), left + done, right + done, n);
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t t = since_ + i;
-      const float g = t < kWarm ? 0.0f : t >= kWarm + kFade ? 1.0f
-                                       : static_cast<float>(t - kWarm) / static_cast<float>(kFade);
+      const float g = audio::crossfade_gain(t, kWarm, kFade);
       left[done + i] = g * left[done + i] + (1.0f - g) * old_l_[i];
       right[done + i] = g * right[done + i] + (1.0f - g) * old_r_[i];
     }

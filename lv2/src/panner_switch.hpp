@@ -1,9 +1,9 @@
 // The panner in use, and the switch to a new one (another SOFA set) without
 // a gap or a click: a new panner starts with an empty FIFO and empty
 // convolution history, so for kWarm frames both run on the same input and
-// the old one is heard; then the output fades linearly from old to new over
-// kFade frames; then the old one is released (finished()) for the worker to
-// free. Real-time safe: scratch buffers are allocated at construction, and
+// the old one is heard; then the output fades from old to new over kFade
+// frames (a raised cosine: earshot/audio/crossfade.hpp); then the old one is
+// released (finished()) for the worker to free. Real-time safe: scratch buffers are allocated at construction, and
 // update() / process() never allocate, lock or do I/O.
 #pragma once
 

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <exception>
 
+#include "earshot/audio/crossfade.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/tracker/live_tracker.hpp"
 #include "earshot/geometry.hpp"
@@ -355,10 +356,7 @@ void World::render(float* left, float* right) {
     fading_->render(fade_l_, fade_r_);
     for (std::size_t i = 0; i < params_.block_size; ++i) {
       const std::size_t t = fade_frames_ + i;
-      const float g = t < kWarmFrames ? 0.0f
-                      : t >= kWarmFrames + kFadeFrames
-                          ? 1.0f
-                          : static_cast<float>(t - kWarmFrames) / static_cast<float>(kFadeFrames);
+      const float g = audio::crossfade_gain(t, kWarmFrames, kFadeFrames);
       l_out[i] = g * l_out[i] + (1.0f - g) * fade_l_[i];
       r_out[i] = g * r_out[i] + (1.0f - g) * fade_r_[i];
     }

@@ -10,6 +10,7 @@
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
 //                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
+//                     [--hrtf FILE.sofa]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
@@ -226,7 +227,8 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
-  std::string only = "both", csv_path;
+  std::string only = "both", csv_path, hrtf_path;
+  app.add_option("--hrtf", hrtf_path, "Earshot's SOFA set (default: MIT KEMAR); OpenAL Soft keeps its own");
   app.add_option("--csv", csv_path, "also write the table as CSV (for tools/plot_throughput.py)");
   app.add_option("--only", only, "run one renderer (for a profiler)")->check(CLI::IsMember({"both", "earshot", "openal"}));
   CLI11_PARSE(app, argc, argv);
@@ -239,7 +241,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kRate));
+    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(
+        hrtf_path.empty() ? earshot::hrtf::HrtfSet::load_default(kRate) : earshot::hrtf::HrtfSet::load(hrtf_path, kRate));
+    std::fprintf(stderr, "render_throughput: Earshot's set %s, %zu directions, %zu-tap filters at %d Hz\n",
+                 hrtf_path.empty() ? earshot::hrtf::HrtfSet::kDefaultPath : hrtf_path.c_str(), hrtf->measurement_count(),
+                 hrtf->filter_length(), kRate);
     const auto loops = noise_loops();
     std::string al_hrtf;
     std::vector<double> ear, oal;  // 0: not run

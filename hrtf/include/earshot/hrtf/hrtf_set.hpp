@@ -29,16 +29,19 @@
 //
 // What the file holds: a set measured at several distances keeps every
 // shell (shells: radii separated by gaps of more than 10%; a shell's
-// distance is the mean of its radii). Shell 0 is the farthest: the one
-// measurement_count(), direction(i) for i below it and the plain
-// interpolate() use, as for a single-distance set; nearer shells follow it in
-// the measurement indices (all_measurement_count() counts every shell), each
-// triangulated on its own. The renderer reads a source's HRTFs from the shell
-// nearest its distance (nearest_shell(); no blending between shells) and
-// corrects only from that shell's distance to the source's
-// (earshot/audio/near_field.hpp). A nearer shell that cannot be triangulated
-// (fewer than 4 directions, a ring, a hemisphere) is dropped. Each shell's
-// own common flight time is removed from its delays. Receiver 0 may be
+// distance is the mean of its radii). Shell 0 is the farthest: measurement
+// indices 0 .. measurement_count() - 1, and what the plain interpolate()
+// blends, as for a single-distance set; nearer shells follow it in the
+// indices (all_measurement_count() counts every shell), each triangulated on
+// its own. The renderer reads a source's HRTFs from the shell nearest its
+// distance (nearest_shell(); no blending between shells: crossing the
+// midpoint between two shells glides from one to the other over two blocks,
+// as crossing between triangles does) and corrects only from that shell's
+// distance to the source's (earshot/audio/near_field.hpp). A nearer shell
+// that cannot be triangulated (fewer than 4 directions, a ring, a
+// hemisphere) is dropped. One level for the whole set (from shell 0's front),
+// so nearer shells keep the level differences the file gives them; each
+// shell's own common flight time is removed from its delays. Receiver 0 may be
 // either ear: ReceiverPosition's y (to the left) says which, and a set with
 // the right ear first is swapped on load.
 //
@@ -149,7 +152,8 @@ class HrtfSet {
   /// The measured onset-free filter of measurement i.
   [[nodiscard]] std::span<const float> filter(std::size_t i, Ear ear) const;
   [[nodiscard]] Delays delays(std::size_t i) const { return delays_[i]; }
-  /// The flight time common to every measurement, removed from all delays.
+  /// The flight time common to shell 0's measurements, removed from their
+  /// delays (each nearer shell has its own removed likewise).
   [[nodiscard]] double removed_delay_s() const { return removed_delay_s_; }
   /// The original (resampled) HRIR of measurement i, before the onset split.
   [[nodiscard]] std::span<const float> measured_hrir(std::size_t i, Ear ear) const;

@@ -17,6 +17,7 @@
 #include "earshot/tracker/led_model.hpp"
 #include "earshot/tracker/poses_csv.hpp"
 #include "earshot/tracker/simulator.hpp"
+#include "track_calibrate.hpp"
 #include "track_video.hpp"
 
 namespace earshot::app {
@@ -231,6 +232,7 @@ void add_track_commands(CLI::App& track) {
   solve_opts->cam.add_to(*solve);
   solve->callback([solve_opts] { run_solve(*solve_opts); });
   add_track_live_commands(track);
+  add_track_calibrate_command(track);
   add_track_video_commands(track);
 }
 

@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   const int seeds = static_cast<int>(arg(argc, argv, "--seeds", 10));
   const int frames = static_cast<int>(arg(argc, argv, "--frames", 6000));
   const int heldout = static_cast<int>(arg(argc, argv, "--heldout", 3000));
+  const auto max_frames = static_cast<size_t>(arg(argc, argv, "--max-frames", 3000));
   const std::string its_path = sarg(argc, argv, "--iterations");
   std::ofstream its;
   if (!its_path.empty()) {
@@ -79,6 +80,7 @@ int main(int argc, char** argv) {
       CalibrationOptions o;
       o.scale = {(truth.leds_mm[0] - truth.leds_mm[1]).norm(), 0, 1};
       o.estimate_focal = focal;
+      o.max_frames = max_frames;
       o.on_iteration = [&](const CalibrationIteration& it) {
         if (!its) return;
         const auto e = led_errors_after_alignment(it.leds_mm, truth.leds_mm);
@@ -111,10 +113,10 @@ int main(int argc, char** argv) {
               "start 3 mm off; held-out seated walk of %d frames (four-dot frames, raw LM)\n\n",
               frames, frames / 100.0, heldout);
   std::printf("| seed | focal | frames used | RMS px before / after | max LED err start / calibrated (mm) | "
-              "max sigma (mm) | focal err | rot RMS true / start / cal (deg) | rot ratio | trans RMS true / cal (mm) | "
-              "trans ratio | time (s) |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  double worst_err[2] = {0, 0}, worst_rot[2] = {0, 0}, worst_trans[2] = {0, 0}, worst_focal = 0;
+              "max sigma (mm) | focal err (sigma) | rot RMS true / start / cal (deg) | rot ratio | trans RMS true / cal (mm) | "
+              "trans ratio | centred trans ratio | time (s) |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  double worst_err[2] = {0, 0}, worst_rot[2] = {0, 0}, worst_trans[2] = {0, 0}, worst_centred[2] = {0, 0}, worst_focal = 0;
   for (const Row& r : rows) {
     double sigma = 0.0;
     for (const auto& s : r.res.led_sigma_mm) sigma = std::max(sigma, s.maxCoeff());
@@ -124,18 +126,23 @@ int main(int argc, char** argv) {
     worst_err[v] = std::max(worst_err[v], r.cal_err);
     worst_rot[v] = std::max(worst_rot[v], rot);
     worst_trans[v] = std::max(worst_trans[v], trans);
+    const double centred = r.cal.trans_centred_rms_mm / r.truth.trans_centred_rms_mm;
+    worst_centred[v] = std::max(worst_centred[v], centred);
+    char focal_cell[64] = "-";
+    if (r.focal)
+      std::snprintf(focal_cell, sizeof focal_cell, "%+.3f %% (%.3f %%)", focal_err, 100.0 * r.res.focal_sigma_px / cam.fx);
     if (r.focal) worst_focal = std::max(worst_focal, std::abs(focal_err));
     std::printf("| %llu | %s | %zu | %.3f / %.3f | %.2f / %.3f | %.3f | %s | %.3f / %.3f / %.3f | %.3f | %.2f / %.2f | %.3f | "
-                "%.2f |\n",
+                "%.3f | %.2f |\n",
                 static_cast<unsigned long long>(r.seed), r.focal ? "estimated (start +5 %)" : "known",
                 r.res.frames_used, r.res.rms_before_px, r.res.rms_after_px, r.start_err, r.cal_err, sigma,
-                r.focal ? (std::to_string(focal_err).substr(0, 6) + " %").c_str() : "-", r.truth.rot_rms_deg,
-                r.start.rot_rms_deg, r.cal.rot_rms_deg, rot, r.truth.trans_rms_mm, r.cal.trans_rms_mm, trans, r.ms / 1000.0);
+                focal_cell, r.truth.rot_rms_deg, r.start.rot_rms_deg, r.cal.rot_rms_deg, rot, r.truth.trans_rms_mm,
+                r.cal.trans_rms_mm, trans, centred, r.ms / 1000.0);
   }
-  std::printf("\nworst over %d seeds, focal known: LED error %.3f mm, tracking ratio rot %.3f trans %.3f\n", seeds,
-              worst_err[0], worst_rot[0], worst_trans[0]);
-  std::printf("worst over %d seeds, focal estimated: LED error %.3f mm, tracking ratio rot %.3f trans %.3f, focal error "
-              "%.3f %%\n",
-              seeds, worst_err[1], worst_rot[1], worst_trans[1], worst_focal);
+  std::printf("\nworst over %d seeds, focal known: LED error %.3f mm, tracking ratio rot %.3f trans %.3f (centred %.3f)\n",
+              seeds, worst_err[0], worst_rot[0], worst_trans[0], worst_centred[0]);
+  std::printf("worst over %d seeds, focal estimated: LED error %.3f mm, tracking ratio rot %.3f trans %.3f (centred %.3f), "
+              "focal error %.3f %%\n",
+              seeds, worst_err[1], worst_rot[1], worst_trans[1], worst_centred[1], worst_focal);
   return 0;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -49,6 +50,7 @@ inline std::vector<DotFrame> session(const Camera& cam, const LedModel& truth, M
 /// composed with the rigid alignment of the true LEDs onto the model's.
 struct TrackingError {
   double rot_rms_deg = 0.0, trans_rms_mm = 0.0;
+  double trans_centred_rms_mm = 0.0;  ///< with the mean translation error removed
   size_t frames = 0;
 };
 
@@ -59,6 +61,7 @@ inline TrackingError tracking_error(const std::vector<DotFrame>& frames, const C
   DotTracker tracker(cam, model, cfg);
   const Pose a = rigid_align(truth.leds_mm, model.leds_mm);  // true frame -> model frame
   AccuracyCollector acc;
+  std::vector<Vec3> dt;
   for (const DotFrame& f : frames) {
     const TrackResult r = tracker.process(f);
     if (r.state != earshot::PoseState::tracking || leds_seen(f) != 4) continue;
@@ -66,8 +69,14 @@ inline TrackingError tracking_error(const std::vector<DotFrame>& frames, const C
     p.R = r.raw_pose.R * a.R;
     p.t = r.raw_pose.R * a.t + r.raw_pose.t;
     acc.add(p, f.truth->pose);
+    dt.push_back(p.t - f.truth->pose.t);
   }
-  return {acc.rotation_deg().rms, acc.translation_mm().rms, acc.count()};
+  Vec3 mean = Vec3::Zero();
+  for (const Vec3& d : dt) mean += d / static_cast<double>(dt.size());
+  double ss = 0.0;
+  for (const Vec3& d : dt) ss += (d - mean).squaredNorm();
+  const double centred = dt.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(dt.size()));
+  return {acc.rotation_deg().rms, acc.translation_mm().rms, centred, acc.count()};
 }
 
 inline double max_of(const std::array<double, 4>& v) { return std::max(std::max(v[0], v[1]), std::max(v[2], v[3])); }

@@ -3,3 +3,9 @@
 earshot_unit_test(led_calibration_tests
   SOURCES calibration/calibration_sim.hpp calibration/test_led_calibration.cpp
   LIBS earshot::tracker)
+
+# `earshot track calibrate` end to end, and its refusals (exit code 2).
+add_test(NAME cli_track_calibrate
+  COMMAND ${CMAKE_COMMAND} -DEARSHOT=$<TARGET_FILE:earshot> -DWORK=${CMAKE_CURRENT_BINARY_DIR}/calibrate
+          -P ${CMAKE_CURRENT_SOURCE_DIR}/calibration/calibrate_cli.cmake)
+set_tests_properties(cli_track_calibrate PROPERTIES LABELS "unit;cli")

@@ -41,7 +41,8 @@ HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
 
 struct Renderer::Voice {
   Voice(std::size_t block, double max_delay, double rate)
-      : air(rate), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block), near_l(block), near_r(block) {}
+      : air(rate), delay(block, max_delay), input(block, 0.0f), ear_l(block), ear_r(block),
+        near(std::make_unique<Near>(block)) {}
   SourceState state;
   AirAbsorption air;
   FractionalDelay delay;  // the source's signal, read once per ear (propagation delay plus that ear's ITD)
@@ -53,15 +54,21 @@ struct Renderer::Voice {
   Vec3 direction{2, 2, 2};           // head-frame direction of `recipe` (none yet: not a unit vector)
   hrtf::Interpolation recipe{};           // measurements, weights and delays for that direction
   // A near source (nearer than the farthest shell): each ear has its own
-  // direction (parallax); `recipe` is then the left ear's and these the right's.
+  // direction (parallax); `recipe` is then the left ear's and near->recipe_r
+  // the right's. Kept apart from the voice, which is prefetched whole every
+  // block, so far sources do not stream it.
   bool split = false;
   std::size_t shell = 0;  // the shell the recipes are in
-  Vec3 direction_r{2, 2, 2};
-  hrtf::Interpolation recipe_r{};
-  std::uint32_t triangle_r = hrtf::SphereTriangulation::kNoHint;
-  NearFieldFilter near_l, near_r;  // the near-field level, per ear
-  std::array<float, NearFieldTable::kTaps> taps{};
-  std::array<double, 2> near_shift{0.0, 0.0};  // seconds added to each ear's delay (near_field.hpp)
+  struct Near {
+    explicit Near(std::size_t block) : filter_l(block), filter_r(block) {}
+    Vec3 direction_r{2, 2, 2};
+    hrtf::Interpolation recipe_r{};
+    std::uint32_t triangle_r = hrtf::SphereTriangulation::kNoHint;
+    std::array<double, 2> shift{0.0, 0.0};  // seconds added to each ear's delay (near_field.hpp)
+    NearFieldFilter filter_l, filter_r;     // the near-field level, per ear
+    std::array<float, NearFieldTable::kTaps> taps{};
+  };
+  std::unique_ptr<Near> near;
   // The panning into the bank at the end of the last two blocks: which
   // measurements, and per ear the gain each got (blend weight x ear gain x
   // distance gain). This block's gains follow a quadratic B-spline through
@@ -156,10 +163,11 @@ int Renderer::add_source(const SourceState& s) {
   v.direction = {2, 2, 2};
   v.split = false;
   v.shell = 0;
-  v.direction_r = {2, 2, 2};
-  v.triangle_r = hrtf::SphereTriangulation::kNoHint;
-  v.near_l.reset();
-  v.near_r.reset();
+  v.near->direction_r = {2, 2, 2};
+  v.near->triangle_r = hrtf::SphereTriangulation::kNoHint;
+  v.near->shift = {0.0, 0.0};
+  v.near->filter_l.reset();
+  v.near->filter_r.reset();
   v.panned = false;
   v.moved_from.reset();
   v.air.reset();
@@ -221,15 +229,16 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
       const double r = std::max(hr.distance, near_field_->min_distance_m());
       const Vec3 at{hr.direction[0] * r, hr.direction[1] * r, hr.direction[2] * r};
       const Vec3 dl = parallax_direction(at, a, R), dr = parallax_direction(at, -a, R);
+      Voice::Near& n = *v.near;
       if (dl != v.direction || !v.split || shell != v.shell) {
         v.recipe = hrtf_->interpolate_in_shell(dl, shell, v.triangle);
         v.triangle = v.recipe.blend.triangle;
         v.direction = dl;
       }
-      if (dr != v.direction_r || !v.split || shell != v.shell) {
-        v.recipe_r = hrtf_->interpolate_in_shell(dr, shell, v.triangle_r);
-        v.triangle_r = v.recipe_r.blend.triangle;
-        v.direction_r = dr;
+      if (dr != n.direction_r || !v.split || shell != v.shell) {
+        n.recipe_r = hrtf_->interpolate_in_shell(dr, shell, n.triangle_r);
+        n.triangle_r = n.recipe_r.blend.triangle;
+        n.direction_r = dr;
       }
       v.split = true;
       v.shell = shell;
@@ -238,15 +247,15 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
       // the near ITD (zero at the shell).
       const hrtf::SphereHead& head = near_field_->head();
       const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
-      v.near_shift = {hrtf::sphere_path_delay(r, std::acos(uy), head) -
-                          hrtf::sphere_path_delay(R, std::acos(std::clamp(dl[1], -1.0, 1.0)), head),
-                      hrtf::sphere_path_delay(r, std::acos(-uy), head) -
-                          hrtf::sphere_path_delay(R, std::acos(std::clamp(-dr[1], -1.0, 1.0)), head)};
+      n.shift = {hrtf::sphere_path_delay(r, std::acos(uy), head) -
+                     hrtf::sphere_path_delay(R, std::acos(std::clamp(dl[1], -1.0, 1.0)), head),
+                 hrtf::sphere_path_delay(r, std::acos(-uy), head) -
+                     hrtf::sphere_path_delay(R, std::acos(std::clamp(-dr[1], -1.0, 1.0)), head)};
     }
-    if (!v.split) v.near_shift = {0.0, 0.0};
-    const hrtf::Interpolation& right_recipe = v.split ? v.recipe_r : v.recipe;
+    const hrtf::Interpolation& right_recipe = v.split ? v.near->recipe_r : v.recipe;
     // The ITD follows every move, through the delay lines.
-    const hrtf::Delays d{v.recipe.delays.left_s + v.near_shift[0], right_recipe.delays.right_s + v.near_shift[1]};
+    hrtf::Delays d{v.recipe.delays.left_s, right_recipe.delays.right_s};
+    if (v.split) d = {d.left_s + v.near->shift[0], d.right_s + v.near->shift[1]};
     // Propagation delay to the listener's ear now from where the source was
     // when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
     // the source's own motion changes the distance. Gliding the delay line
@@ -282,14 +291,15 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
     v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
     v.ear_delay = to;
-    if (near || v.near_l.active() || v.near_r.active()) {
+    if (near || v.near->filter_l.active() || v.near->filter_r.active()) {
       // Each ear's level from the sphere model, for its angle to the source.
+      Voice::Near& n = *v.near;
       const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
-      const std::span<const float> taps(v.taps);
-      const bool on_l = near_field_->taps(v.shell, hr.distance, std::acos(uy), v.taps);
-      v.near_l.process(v.ear_l, on_l ? taps : std::span<const float>{});
-      const bool on_r = near_field_->taps(v.shell, hr.distance, std::acos(-uy), v.taps);
-      v.near_r.process(v.ear_r, on_r ? taps : std::span<const float>{});
+      const std::span<const float> taps(n.taps);
+      const bool on_l = near_field_->taps(v.shell, hr.distance, std::acos(uy), n.taps);
+      n.filter_l.process(v.ear_l, on_l ? taps : std::span<const float>{});
+      const bool on_r = near_field_->taps(v.shell, hr.distance, std::acos(-uy), n.taps);
+      n.filter_r.process(v.ear_r, on_r ? taps : std::span<const float>{});
     }
     pan(v, v.recipe, right_recipe, g);
     const auto send = static_cast<float>(v.state.reverb_send);

@@ -77,7 +77,7 @@ def main():
         title = "focal known (1280 px)" if variant == "fixed" else "focal estimated (start +5 %)"
         ax.set_title(f"{title}, {len(seeds)} seeds")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
+        ax.legend(fontsize=8, loc="upper right")
     if "focal" in variants:
         ax = axes[0][ncols - 1]
         for (v, seed, led), pts in runs.items():

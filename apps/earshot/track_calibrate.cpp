@@ -20,7 +20,7 @@ struct CalibrateOptions {
   std::string dots, model, out, scale;
   double focal = 1280.0;
   bool estimate_focal = false;
-  size_t max_frames = 3000;
+  size_t max_frames = 6000;
   double max_sigma_mm = 1.0;
 };
 

@@ -9,7 +9,7 @@
 // constant offset, which recentering removes in use). --iterations writes
 // every step's LED estimates for tools/plot_calibration.py.
 //
-//   led_calibration [--seeds 10] [--frames 6000] [--heldout 3000] [--iterations its.csv]
+//   led_calibration [--seeds 10] [--frames 6000] [--heldout 3000] [--max-frames 6000] [--iterations its.csv]
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
   const int seeds = static_cast<int>(arg(argc, argv, "--seeds", 10));
   const int frames = static_cast<int>(arg(argc, argv, "--frames", 6000));
   const int heldout = static_cast<int>(arg(argc, argv, "--heldout", 3000));
-  const auto max_frames = static_cast<size_t>(arg(argc, argv, "--max-frames", 3000));
+  const auto max_frames = static_cast<size_t>(arg(argc, argv, "--max-frames", static_cast<double>(CalibrationOptions{}.max_frames)));
   const std::string its_path = sarg(argc, argv, "--iterations");
   std::ofstream its;
   if (!its_path.empty()) {

@@ -312,6 +312,12 @@ std::vector<std::string> advise(const CalibrationResult& r, double max_sigma) {
       a.push_back("record longer with the head moving over the whole view: the least determined direction is " +
                   w.description);
   }
+  // Under weak perspective the image fixes only focal / distance; the
+  // focal length shows in perspective: near the camera, toward the edges.
+  if (r.focal_sigma_px > 0.002 * r.focal_px)
+    a.push_back(fmt("sit closer to the camera and move your head toward the edges of its view: the focal length is "
+                    "uncertain by %.2f %% (it scales every distance by as much)",
+                    100.0 * r.focal_sigma_px / r.focal_px));
   if (r.frames_used < 1000)
     a.push_back("record longer: only " + std::to_string(r.frames_used) + " frames had all four LEDs in view");
   return a;

@@ -60,7 +60,7 @@ struct CalibrationIteration {
 struct CalibrationOptions {
   ScaleBar scale;
   bool estimate_focal = false;
-  size_t max_frames = 3000;        ///< four-dot frames used, spread over the session
+  size_t max_frames = 6000;        ///< four-dot frames used, spread over the session
   size_t min_frames = 300;         ///< fewer four-dot frames than this: refused
   double min_turn_deg = 8.0;       ///< yaw and pitch must each span this (5th-95th percentile)
   double max_led_sigma_mm = 1.0;   ///< an LED coordinate less certain than this: refused

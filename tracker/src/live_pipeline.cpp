@@ -34,7 +34,26 @@ Vec3 remote_accel_to_camera(const Vec3& a) {
   return {-a.x(), -a.z(), -a.y()};
 }
 
-LivePipeline::LivePipeline(LiveConfig cfg) : cfg_(cfg), tracker_(cfg.camera, cfg.model, cfg.tracker) {}
+LiveConfig with_source_model(LiveConfig cfg, const FrameSource& source) {
+  if (auto c = source.camera()) cfg.camera = *c;
+  if (auto m = source.model()) cfg.model = *m;
+  return cfg;
+}
+
+LivePipeline::LivePipeline(LiveConfig cfg)
+    : cfg_(cfg), tracker_(cfg.camera, cfg.model, cfg.tracker), labelled_(cfg.camera, cfg.model, cfg.tracker) {}
+
+void LivePipeline::use_camera(const Camera& c, const std::optional<LedModel>& model) {
+  const Camera& o = cfg_.camera;
+  bool same = c.fx == o.fx && c.fy == o.fy && c.cx == o.cx && c.cy == o.cy && c.width == o.width && c.height == o.height;
+  if (model) same = same && model->leds_mm == cfg_.model.leds_mm && model->axis == cfg_.model.axis &&
+                    model->half_angle == cfg_.model.half_angle;
+  if (same) return;
+  cfg_.camera = c;
+  if (model) cfg_.model = *model;
+  tracker_ = DotTracker(cfg_.camera, cfg_.model, cfg_.tracker);
+  labelled_ = LabelledTracker(cfg_.camera, cfg_.model, cfg_.tracker);
+}
 
 std::optional<HeadPose> LivePipeline::process(const SourceEvent& e, double now_s) {
   if (const auto* f = std::get_if<CameraFrame>(&e)) return on_frame(*f);
@@ -76,7 +95,7 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
   buttons_ = f.buttons;
   if (cfg_.level_from_accel && f.accel_g) update_level(*f.accel_g);
 
-  last_track_ = tracker_.process(dots);
+  last_track_ = f.labelled ? labelled_.process(dots) : tracker_.process(dots);
   const TrackResult& r = last_track_;
   if (r.state == PoseState::lost || !r.pose.finite()) return lost_pose(dots.t);
 
@@ -111,7 +130,10 @@ HeadPose LivePipeline::on_note(const SourceNote& n, double now) {
   ++counters_.notes;
   using K = SourceNote::Kind;
   if (n.kind == K::recenter) recenter_pending_ = true;
-  if (n.kind == K::disconnected || n.kind == K::connected) tracker_.reset();
+  if (n.kind == K::disconnected || n.kind == K::connected) {
+    tracker_.reset();
+    labelled_.reset();
+  }
   const bool fresh = now - last_good_t_ <= (direct_ ? cfg_.direct_timeout_s : cfg_.tracker.predict_timeout_s);
   if ((state_ == PoseState::tracking || state_ == PoseState::predicted) && fresh &&
       (n.kind == K::timeout || n.kind == K::recenter))

@@ -46,7 +46,7 @@ LiveTracker::LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, Li
     : source_(std::move(source)),
       slot_(slot),
       keep_running_after_end_(cfg.keep_running_after_end),
-      pipeline_(cfg),
+      pipeline_(with_source_model(cfg, *source_)),
       on_pose_(std::move(on_pose)) {
   status_.source = source_->describe();
   thread_ = std::jthread([this](std::stop_token st) { run(st); });
@@ -114,7 +114,10 @@ void LiveTracker::run(std::stop_token stop) {
         if (n->kind != SourceNote::Kind::timeout) note = n->message;
         if (n->t) now = *n->t;
         ended = n->kind == SourceNote::Kind::ended;
-        if (n->kind == SourceNote::Kind::connected) link = Link::connected;
+        if (n->kind == SourceNote::Kind::connected) {
+          link = Link::connected;
+          if (const auto cam = source_->camera()) pipeline_.use_camera(*cam, source_->model());
+        }
         if (n->kind == SourceNote::Kind::searching) link = Link::searching;
         if (n->kind == SourceNote::Kind::disconnected) link = Link::disconnected;
         if (n->kind == SourceNote::Kind::disconnected || n->kind == SourceNote::Kind::searching || ended)

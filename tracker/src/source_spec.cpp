@@ -1,12 +1,15 @@
 #include "earshot/tracker/source_spec.hpp"
 
 #include <charconv>
+#include <cmath>
+#include <set>
 
 #include "earshot/errors.hpp"
 #include "earshot/tracker/opentrack_packet.hpp"
 #include "earshot/tracker/osc_pose.hpp"
 #include "earshot/tracker/udp_pose_source.hpp"
 #include "earshot/tracker/udp_socket.hpp"
+#include "earshot/tracker/webcam_source.hpp"
 #include "earshot/tracker/wiimote_source.hpp"
 
 namespace earshot::tracker {
@@ -27,10 +30,96 @@ std::uint16_t port_of(std::string_view spec, std::string_view field, std::option
   return static_cast<std::uint16_t>(v);
 }
 
+template <typename T>
+bool parse_number(std::string_view text, T& out) {
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), out);
+  return !text.empty() && ec == std::errc{} && end == text.data() + text.size();
+}
+
+/// webcam[:DEVICE][,KEY=VALUE]...; `rest` is what follows "webcam".
+WebcamSpec parse_webcam(std::string_view spec, std::string_view field, std::string_view rest) {
+  WebcamSpec w;
+  const auto fail = [&](const std::string& why) { return spec_error(field, spec, why); };
+  const std::size_t comma = rest.find(',');
+  std::string_view device = rest.substr(0, comma);
+  std::string_view options = comma == std::string_view::npos ? std::string_view() : rest.substr(comma + 1);
+  if (!device.empty()) {
+    if (device.front() != ':') throw fail("expected ':DEVICE' or ',OPTION=VALUE' after 'webcam'");
+    device.remove_prefix(1);
+    if (device.empty()) throw fail("empty device after 'webcam:' (/dev/videoN, N or a .y4m file)");
+    if (unsigned n = 0; parse_number(device, n)) w.device = "/dev/video" + std::to_string(n);
+    else if (device.front() >= '0' && device.front() <= '9' && device.find('.') == std::string_view::npos)
+      throw fail("bad camera number '" + std::string(device) + "' (0, 1, ...)");
+    else w.device = std::string(device);
+  }
+  std::set<std::string, std::less<>> seen;
+  bool tag_option = false;
+  while (comma != std::string_view::npos) {
+    const std::size_t next = options.find(',');
+    const std::string_view item = options.substr(0, next);
+    options = next == std::string_view::npos ? std::string_view() : options.substr(next + 1);
+    const std::size_t eq = item.find('=');
+    const std::string_view key = item.substr(0, eq);
+    if (eq == std::string_view::npos || key.empty())
+      throw fail("expected OPTION=VALUE, got '" + std::string(item) + "'");
+    const std::string_view value = item.substr(eq + 1);
+    const std::string k(key), v(value);
+    if (!seen.insert(k).second) throw fail("webcam option '" + k + "' given twice");
+    if (value.empty()) throw fail("webcam option '" + k + "' has no value");
+    if (key == "beacon") {
+      if (value == "leds") w.beacon = WebcamSpec::Beacon::leds;
+      else if (value == "apriltag") w.beacon = WebcamSpec::Beacon::apriltag;
+      else throw fail("bad beacon '" + v + "' (leds or apriltag)");
+    } else if (key == "size_mm") {
+      if (!parse_number(value, w.size_mm) || !std::isfinite(w.size_mm) || w.size_mm < 5.0 || w.size_mm > 1000.0)
+        throw fail("bad size_mm '" + v + "' (the tag's black square in mm, 5-1000)");
+      tag_option = true;
+    } else if (key == "family") {
+      w.family = v;
+      tag_option = true;
+    } else if (key == "id") {
+      if (!parse_number(value, w.id) || w.id < 0 || w.id > 65535) throw fail("bad tag id '" + v + "' (0-65535)");
+      tag_option = true;
+    } else if (key == "focal") {
+      double f = 0.0;
+      if (!parse_number(value, f) || !std::isfinite(f) || f < 10.0 || f > 100000.0)
+        throw fail("bad focal '" + v + "' (the focal length in pixels, 10-100000)");
+      w.focal_px = f;
+    } else if (key == "calib") {
+      w.calib = v;
+    } else if (key == "resolution") {
+      const std::size_t x = value.find('x');
+      if (x == std::string_view::npos || !parse_number(value.substr(0, x), w.max_width) ||
+          !parse_number(value.substr(x + 1), w.max_height) || w.max_width < 16 || w.max_height < 16 ||
+          w.max_width > 8192 || w.max_height > 8192)
+        throw fail("bad resolution '" + v + "' (WIDTHxHEIGHT, e.g. 640x480; 16-8192 each)");
+    } else if (key == "fps") {
+      if (!parse_number(value, w.max_fps) || w.max_fps < 1 || w.max_fps > 1000)
+        throw fail("bad fps '" + v + "' (frames per second, 1-1000)");
+    } else {
+      throw fail("unknown webcam option '" + k + "' (beacon, size_mm, family, id, focal, calib, resolution, fps)");
+    }
+    if (next == std::string_view::npos) break;
+  }
+  if (tag_option && w.beacon != WebcamSpec::Beacon::apriltag)
+    throw fail("size_mm, family and id are for beacon=apriltag (the LED beacon's shape comes from --model)");
+  return w;
+}
+
 }  // namespace
+
+bool WebcamSpec::is_file() const {
+  return device.size() > 4 && device.compare(device.size() - 4, 4, ".y4m") == 0;
+}
 
 SourceSpec parse_source_spec(std::string_view spec, std::string_view field) {
   using Kind = SourceSpec::Kind;
+  if (spec.starts_with("webcam") && (spec.size() == 6 || spec[6] == ':' || spec[6] == ',')) {
+    SourceSpec s;
+    s.kind = Kind::webcam;
+    s.webcam = parse_webcam(spec, field, spec.substr(6));
+    return s;
+  }
   // KIND[:ARG][@ADDR]; replay's ARG is a file name and may hold '@'.
   const std::size_t kind_end = spec.find_first_of(":@");
   const std::string_view kind = spec.substr(0, kind_end);
@@ -112,6 +201,7 @@ std::unique_ptr<FrameSource> make_frame_source(const SourceSpec& spec, const Sou
       return std::make_unique<UdpPoseSource>("opentrack", spec.port, spec.listen, decode_opentrack);
     case SourceSpec::Kind::osc:
       return std::make_unique<UdpPoseSource>("osc", spec.port, spec.listen, OscPoseDecoder::packet_decoder());
+    case SourceSpec::Kind::webcam: return make_webcam_source(spec.webcam, o);
   }
   throw std::logic_error("make_frame_source: unknown source kind");
 }

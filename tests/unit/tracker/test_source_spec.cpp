@@ -56,8 +56,8 @@ TEST(SourceSpec, BadPortsNameThePortAndTheSpec) {
 }
 
 TEST(SourceSpec, UnknownKindsAndArgumentsAreErrors) {
-  EXPECT_EQ(error_of("webcam", "tracker"),
-            "tracker: unknown source 'webcam' (wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR])");
+  EXPECT_EQ(error_of("kinect", "tracker"), "tracker: unknown source 'kinect' (" + std::string(kSourceSpecs) + ")");
+  EXPECT_EQ(std::string(kSourceSpecs).rfind("wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR], webcam", 0), 0u);
   EXPECT_NE(error_of("").find("unknown source ''"), std::string::npos);
   EXPECT_NE(error_of("Sim").find("unknown source 'Sim'"), std::string::npos);
   EXPECT_EQ(error_of("sim:3"), "--source: source 'sim:3': 'sim' takes no argument");

@@ -15,7 +15,9 @@
 #include <utility>
 #include <variant>
 
+#include "earshot/tracker/camera.hpp"
 #include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/led_model.hpp"
 
 namespace earshot::tracker {
 
@@ -26,6 +28,21 @@ struct CameraFrame {
   std::uint16_t buttons = 0;      ///< wiimote::Buttons bits
   /// Blob size per slot as the camera reports it (Wii: 0..15); -1 unknown.
   std::array<int, kSlots> dot_size{-1, -1, -1, -1};
+  /// Slot k holds model point k (a tag's corners come labelled): the
+  /// tracker solves from them directly, without its labeller.
+  bool labelled = false;
+};
+
+/// A small grey copy of a camera's newest frame with the dots found in it,
+/// for UIs (a fixed-size buffer: copying it never allocates).
+struct Thumbnail {
+  static constexpr int kMaxWidth = 160, kMaxHeight = 120;
+  int width = 0, height = 0;  ///< of the thumbnail; 0: no frame yet
+  std::array<std::uint8_t, static_cast<std::size_t>(kMaxWidth) * kMaxHeight> pixels{};  ///< row after row, `width` apart
+  std::array<std::optional<Vec2>, kSlots> dots;  ///< in thumbnail pixels (as detected, before undistortion)
+  bool labelled = false;     ///< dots[k] is model point k
+  std::uint64_t frame = 0;   ///< frames delivered by the source so far
+  double t = 0.0;            ///< the frame's time on the source clock
 };
 
 /// A head pose from a source that solves its own (opentrack, OSC): the head
@@ -72,6 +89,20 @@ class FrameSource {
   [[nodiscard]] virtual std::string describe() const = 0;
   /// Malformed input dropped so far (packets, reports, lines).
   [[nodiscard]] virtual std::uint64_t dropped() const { return 0; }
+  /// The camera behind the dots when the source knows it (a webcam: its
+  /// resolution and focal length); nullopt: the tracker's configured one.
+  /// May change when the source (re)connects (a `connected` note).
+  [[nodiscard]] virtual std::optional<Camera> camera() const { return std::nullopt; }
+  /// The beacon the source watches when it defines it (a tag's corners);
+  /// nullopt: the tracker's configured LED model.
+  [[nodiscard]] virtual std::optional<LedModel> model() const { return std::nullopt; }
+  /// Copies the newest frame's thumbnail into `out`; false when the source
+  /// has none. Safe from any thread while next() runs (not real-time safe:
+  /// it may wait for the copy the tracker thread is making).
+  virtual bool thumbnail(Thumbnail& out) const {
+    (void)out;
+    return false;
+  }
 };
 
 }  // namespace earshot::tracker

@@ -3,7 +3,9 @@
 // tests drive it frame by frame and the thread (live_tracker.hpp) stays thin.
 //
 //   camera frame -> drop impossible dots (NaN, outside the image)
-//                -> DotTracker (label -> solve -> filter, tracking/predicted/lost)
+//                -> DotTracker (label -> solve -> filter, tracking/predicted/lost),
+//                   or for labelled frames (a tag's corners) LabelledTracker
+//                   (solve -> filter, the same states)
 //                -> level the camera with gravity (accelerometer, while still)
 //                -> relative to the pose captured at recenter
 //                -> audio world frame (OpenAL: +x right, +y up, -z ahead)
@@ -22,6 +24,7 @@
 #include "earshot/head_pose.hpp"
 #include "earshot/tracker/dot_tracker.hpp"
 #include "earshot/tracker/frame_source.hpp"
+#include "earshot/tracker/labelled_tracker.hpp"
 
 namespace earshot::tracker {
 
@@ -46,6 +49,10 @@ struct LiveConfig {
   int still_frames = 30;        ///< accelerometer steady this many frames = still
   double still_tolerance_g = 0.02;
 };
+
+/// `cfg` with the camera and beacon model of `source` where it defines them
+/// (a webcam's resolution and focal length, a tag's corners).
+[[nodiscard]] LiveConfig with_source_model(LiveConfig cfg, const FrameSource& source);
 
 /// Rigid pose in the audio world frame, metres.
 struct WorldPose {
@@ -83,6 +90,12 @@ class LivePipeline {
   /// The next camera frame or direct pose becomes the reference (neutral).
   void request_recenter() { recenter_pending_ = true; }
 
+  /// Uses another camera (and beacon model, when given) from the next frame
+  /// on: a source that reconnected in another mode. The trackers start afresh
+  /// when anything changed; the recenter reference stays.
+  void use_camera(const Camera& camera, const std::optional<LedModel>& model);
+  [[nodiscard]] const LiveConfig& config() const { return cfg_; }
+
   [[nodiscard]] PoseState state() const { return state_; }
   [[nodiscard]] const Mat3& leveling() const { return level_; }
   [[nodiscard]] const PipelineCounters& counters() const { return counters_; }
@@ -100,6 +113,7 @@ class LivePipeline {
 
   LiveConfig cfg_;
   DotTracker tracker_;
+  LabelledTracker labelled_;
   TrackResult last_track_;
   Mat3 level_ = Mat3::Identity();
   Vec3 accel_mean_ = Vec3::Zero();

@@ -7,7 +7,12 @@
 // pose, held then eased to neutral, until stopped).
 //
 // status() is for the control side (a UI, a status line): a copy made under
-// a mutex shared with the tracker thread only, never with the audio side.
+// a mutex shared with the tracker thread only, never with the audio side;
+// so is thumbnail() (a camera source's newest frame, small, with its dots).
+//
+// The source's own camera and beacon model (FrameSource::camera(), model():
+// a webcam's resolution and focal length, a tag's corners) replace the
+// configured ones, at the start and whenever the source (re)connects.
 #pragma once
 
 #include <array>
@@ -72,6 +77,8 @@ class LiveTracker {
   void stop();
   [[nodiscard]] bool running() const { return running_.load(std::memory_order_acquire); }
   [[nodiscard]] Status status() const;
+  /// The source's newest frame, thumbnail-sized (false: it has none).
+  bool thumbnail(Thumbnail& out) const { return source_->thumbnail(out); }
 
  private:
   void run(std::stop_token stop);

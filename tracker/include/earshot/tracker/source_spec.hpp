@@ -8,7 +8,18 @@
 //   osc[:PORT][@ADDR]        OSC head poses: Earshot's, SPARTA's and IEM
 //                            SceneRotator's addresses (default port 9000;
 //                            docs/OSC.md)
-// The first three deliver camera dots, the last two ready-made poses.
+//   webcam[:DEVICE][,OPTION=VALUE...]
+//                            a V4L2 webcam (DEVICE: /dev/videoN or N, default
+//                            /dev/video0) or a .y4m video standing in for one,
+//                            watching the LED beacon or a printed AprilTag.
+//                            Options: beacon=leds|apriltag, size_mm=S (the
+//                            tag's black square), family=F and id=N (which
+//                            tag), focal=F (pixels) or calib=FILE (OpenCV's
+//                            calibration YAML), resolution=WxH and fps=N (a
+//                            camera's largest size and rate to use; a file
+//                            plays as it is). e.g. webcam:1,beacon=apriltag,size_mm=60
+// The first three and webcam deliver camera dots, opentrack and osc ready-made
+// poses.
 // ADDR is the IPv4 address the UDP socket listens on: 127.0.0.1 by default,
 // 0.0.0.0 for every interface, or one interface's address (e.g.
 // osc:9000@0.0.0.0, opentrack@192.168.1.5). Loopback is the default because
@@ -31,17 +42,38 @@ namespace earshot::tracker {
 
 /// The spellings accepted, for help texts and error messages.
 inline constexpr std::string_view kSourceSpecs =
-    "wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR]";
+    "wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR], "
+    "webcam[:DEVICE][,beacon=leds|apriltag][,size_mm=S][,family=F][,id=N][,focal=F][,calib=FILE]"
+    "[,resolution=WxH][,fps=N]";
 
 /// Where pose inputs listen unless the spec says otherwise.
 inline constexpr std::string_view kDefaultListenAddress = "127.0.0.1";
 
+/// What a webcam spec says beyond its kind.
+struct WebcamSpec {
+  enum class Beacon { leds, apriltag };
+  /// /dev/videoN, or a .y4m file played as if a camera delivered it.
+  std::string device = "/dev/video0";
+  Beacon beacon = Beacon::leds;
+  double size_mm = 50.0;           ///< apriltag: side of the tag's outer black square
+  std::string family = "tag36h11";  ///< apriltag: the tag family
+  int id = -1;                      ///< apriltag: only this id; -1 any
+  std::optional<double> focal_px;   ///< focal length in pixels (overrides the calibration's)
+  std::string calib;                ///< OpenCV calibration YAML; empty: none
+  int max_width = 0, max_height = 0;  ///< capture at most this size; 0: the default (1280x720)
+  int max_fps = 0;                  ///< capture at most this rate; 0: the highest offered
+
+  /// The device is a Y4M file, not a camera.
+  [[nodiscard]] bool is_file() const;
+};
+
 struct SourceSpec {
-  enum class Kind { wiimote, sim, replay, opentrack, osc };
+  enum class Kind { wiimote, sim, replay, opentrack, osc, webcam };
   Kind kind = Kind::wiimote;
   std::string file;        ///< replay: the Dots CSV
   std::uint16_t port = 0;  ///< opentrack, osc: the UDP port (the default when none is given)
   std::string listen{kDefaultListenAddress};  ///< opentrack, osc: the IPv4 address to listen on
+  WebcamSpec webcam;       ///< webcam: device, beacon, camera model, capture limits
 
   /// opentrack and osc send poses, not camera dots.
   [[nodiscard]] bool sends_poses() const { return kind == Kind::opentrack || kind == Kind::osc; }
@@ -49,8 +81,9 @@ struct SourceSpec {
 
 /// Parses a spec. Throws earshot::InputError naming `field` (where the spec
 /// came from, e.g. "--source") and the spec itself for an unknown kind, a
-/// missing or unexpected argument, a port that is not 1..65535, or a listen
-/// address that is not IPv4 (or given to a source that does not listen).
+/// missing or unexpected argument, a port that is not 1..65535, a listen
+/// address that is not IPv4 (or given to a source that does not listen), or
+/// a webcam option that is unknown, repeated, out of range or not for its beacon.
 [[nodiscard]] SourceSpec parse_source_spec(std::string_view spec, std::string_view field = "source");
 
 /// `spec` with "@ADDRESS" appended (what `--listen ADDRESS` means). Throws
@@ -63,12 +96,12 @@ struct SourceSpec {
 
 /// How to build a source beyond its spec.
 struct SourceOptions {
-  Pacing pacing = Pacing::real_time;         ///< sim, replay
+  Pacing pacing = Pacing::real_time;         ///< sim, replay, webcam from a .y4m file
   Camera camera = Camera::with_focal(1280.0);  ///< sim
   std::optional<LedModel> model;             ///< sim; default: the thesis beacon
   SimSourceConfig sim{};                     ///< sim: walk, length, faults (its pacing is `pacing`)
-  /// wiimote: no remote yet is a `searching` note instead of an error (for
-  /// hosts that play on and show how to pair one).
+  /// wiimote, webcam: no device yet is a `searching` note instead of an
+  /// error (for hosts that play on and show how to connect one).
   bool wait_for_remote = false;
 };
 

@@ -1,0 +1,27 @@
+// The webcam source with the detector its spec asks for (kept apart from
+// the source itself so tests can give the source a detector of their own).
+#include <stdexcept>
+
+#include "earshot/errors.hpp"
+#include "earshot/tracker/webcam_source.hpp"
+
+namespace earshot::tracker {
+
+std::unique_ptr<FrameSource> make_webcam_source(const WebcamSpec& spec, const SourceOptions& options) {
+  std::unique_ptr<webcam::DotDetector> detector;
+  if (spec.beacon == WebcamSpec::Beacon::apriltag) {
+    webcam::AprilTagOptions a;
+    a.family = spec.family;
+    a.id = spec.id;
+    try {
+      detector = webcam::make_apriltag_detector(a);
+    } catch (const std::invalid_argument& e) {
+      throw InputError::at("webcam", 0, "family", e.what());
+    }
+  } else {
+    detector = webcam::make_led_detector();
+  }
+  return std::make_unique<WebcamSource>(spec, std::move(detector), options);
+}
+
+}  // namespace earshot::tracker

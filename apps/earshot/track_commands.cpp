@@ -65,16 +65,19 @@ struct Summary {
   TrackingTally tally;
 
   void add(const DotFrame& f, const TrackResult& r) {
+    add(leds_seen(f), f.truth ? std::optional<Pose>(f.truth->pose) : std::nullopt, r.state, r.rms_px, r.pose);
+  }
+  void add(int leds, const std::optional<Pose>& truth, PoseState state, double rms_px, const Pose& pose) {
     ++frames;
-    if (r.state == PoseState::tracking) {
+    if (state == PoseState::tracking) {
       ++tracking;
-      reproj_sum += r.rms_px;
-    } else if (r.state == PoseState::predicted) {
+      reproj_sum += rms_px;
+    } else if (state == PoseState::predicted) {
       ++predicted;
     } else {
       ++lost;
     }
-    tally.add(f, r.state == PoseState::tracking, r.pose);
+    tally.add(leds, truth, state == PoseState::tracking, pose);
   }
 
   void print(std::FILE* out, std::string_view method) const {
@@ -113,7 +116,7 @@ void run_simulate(const SimulateOptions& o) {
   const auto motion = motion_profile_from(o.motion);
   if (!motion)
     throw InputError::at("--motion", 0, "",
-                         "unknown motion '" + o.motion + "' (walk, seated, orienting, nodding, walking, tremor, mixed)");
+                         "unknown motion '" + o.motion + "' (walk, seated, orienting, nodding, walking, tremor, mixed, listener)");
   cfg.motion = *motion;
   Simulator sim(o.cam.camera(), o.cam.model(), cfg);
   std::ofstream file;
@@ -170,24 +173,31 @@ void run_solve(const SolveOptions& o) {
     }
   } else {
     // Offline: filter the whole file forward, then smooth the tracked frames
-    // backwards (Rauch-Tung-Striebel over the same motion model).
-    std::vector<DotFrame> frames;
-    std::vector<TrackResult> results;
-    std::vector<EskfStep> steps;
+    // backwards (Rauch-Tung-Striebel over the same motion model). Kept per
+    // frame: what is written and summarised, not the frame or the step.
+    struct Kept {
+      double t, rms_px;
+      PoseState state;
+      int leds;
+      Pose pose;
+      std::optional<Pose> truth;
+    };
+    std::vector<Kept> kept;
+    RtsSmoother smoother;
     std::vector<size_t> step_frame;
     while (auto f = reader.next()) {
-      results.push_back(tracker.process(*f));
-      frames.push_back(std::move(*f));
-      if (results.back().state == PoseState::tracking) {
-        steps.push_back(tracker.eskf().last_step());
-        step_frame.push_back(results.size() - 1);
+      const TrackResult r = tracker.process(*f);
+      kept.push_back({r.t, r.rms_px, r.state, leds_seen(*f), r.pose, f->truth ? std::optional<Pose>(f->truth->pose) : std::nullopt});
+      if (r.state == PoseState::tracking) {
+        smoother.add(tracker.eskf().last_step());
+        step_frame.push_back(kept.size() - 1);
       }
     }
-    const std::vector<Pose> smooth = rts_smooth(steps);
-    for (size_t k = 0; k < smooth.size(); ++k) results[step_frame[k]].pose = smooth[k];
-    for (size_t i = 0; i < frames.size(); ++i) {
-      if (writer) writer->write({results[i].t, results[i].state, results[i].pose});
-      sum.add(frames[i], results[i]);
+    const std::vector<Pose> smooth = smoother.smooth();
+    for (size_t k = 0; k < smooth.size(); ++k) kept[step_frame[k]].pose = smooth[k];
+    for (const Kept& k : kept) {
+      if (writer) writer->write({k.t, k.state, k.pose});
+      sum.add(k.leds, k.truth, k.state, k.rms_px, k.pose);
     }
   }
   sum.print(o.out == "-" ? stderr : stdout, o.smooth ? o.method + " + eskf + RTS smoother" : o.method);
@@ -204,7 +214,7 @@ void add_track_commands(CLI::App& track) {
   sim->add_option("--rate", sim_opts->sim.rate_hz, "Camera frame rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
   sim->add_option("--motion", sim_opts->motion,
                   "Head motion: walk (the original random walk), seated, orienting (quick turns up to 500 deg/s), "
-                  "nodding, walking, tremor, mixed")
+                  "nodding, walking, tremor, mixed, listener (seated, with a look away every minute or so: the demo's)")
       ->capture_default_str();
   sim->add_option("--pixels", sim_opts->pixels, "Pixel model: exact, integer, quantize8 (thesis), gaussian")->capture_default_str();
   sim->add_option("--noise", sim_opts->sim.noise_px, "Pixel noise sigma for --pixels gaussian")->capture_default_str();

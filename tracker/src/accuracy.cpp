@@ -17,10 +17,11 @@ ErrorStats error_stats(std::vector<double> v) {
   }
   s.mean = sum / static_cast<double>(v.size());
   s.rms = std::sqrt(sum2 / static_cast<double>(v.size()));
-  std::sort(v.begin(), v.end());
-  s.max = v.back();
-  const size_t k = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(v.size()))) - 1;
-  s.p95 = v[std::min(k, v.size() - 1)];
+  s.max = *std::max_element(v.begin(), v.end());
+  // The p95 element where a full sort would put it, in linear time.
+  const size_t k = std::min(static_cast<size_t>(std::ceil(0.95 * static_cast<double>(v.size()))) - 1, v.size() - 1);
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  s.p95 = v[k];
   return s;
 }
 
@@ -41,17 +42,20 @@ int leds_seen(const DotFrame& f) {
 }
 
 void TrackingTally::add(const DotFrame& f, bool tracked, const Pose& estimate) {
-  const int leds = leds_seen(f);
+  add(leds_seen(f), f.truth ? std::optional<Pose>(f.truth->pose) : std::nullopt, tracked, estimate);
+}
+
+void TrackingTally::add(int leds, const std::optional<Pose>& truth, bool tracked, const Pose& estimate) {
   if (leds >= 3) {
     ++frames_3plus;
     tracked_3plus += tracked ? 1 : 0;
   }
-  if (!tracked || !f.truth) return;
-  const bool flip = rotation_angle_between(estimate.R, f.truth->pose.R) > kFlipDeg * std::numbers::pi / 180.0;
-  all.add(estimate, f.truth->pose);
+  if (!tracked || !truth) return;
+  const bool flip = rotation_angle_between(estimate.R, truth->R) > kFlipDeg * std::numbers::pi / 180.0;
+  all.add(estimate, *truth);
   flips += flip ? 1 : 0;
   if (leds == 4) {
-    four_dot.add(estimate, f.truth->pose);
+    four_dot.add(estimate, *truth);
     flips_4dot += flip ? 1 : 0;
   }
 }

@@ -1,6 +1,7 @@
 // Splitting and number parsing for the tracker's CSV files (internal).
 #pragma once
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <optional>
@@ -24,6 +25,22 @@ inline std::vector<std::string_view> split(std::string_view line) {
       return out;
     }
     out.push_back(line.substr(start, comma - start));
+    start = comma + 1;
+  }
+}
+
+/// Splits a line at commas into `out` without allocating: returns the number
+/// of fields in the line, which may exceed out.size() (the rest are not kept).
+template <size_t N>
+size_t split_into(std::string_view line, std::array<std::string_view, N>& out) {
+  if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+  size_t n = 0, start = 0;
+  for (;;) {
+    const size_t comma = line.find(',', start);
+    const std::string_view field = line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
+    if (n < N) out[n] = field;
+    ++n;
+    if (comma == std::string_view::npos) return n;
     start = comma + 1;
   }
 }

@@ -26,12 +26,13 @@ int DotFrame::visible() const {
 
 DotFrame parse_dots_line(std::string_view line, bool with_truth, std::string_view origin,
                          long line_number) {
-  const auto fields = csv::split(line);
+  std::array<std::string_view, kDotColumns.size() + kTruthColumns.size()> fields;
+  const size_t found = csv::split_into(line, fields);
   const size_t need = kDotColumns.size() + (with_truth ? kTruthColumns.size() : 0);
-  if (fields.size() < need)
+  if (found < need)
     throw InputError::at(origin, line_number, "",
                          "expected at least " + std::to_string(need) + " fields, found " +
-                             std::to_string(fields.size()));
+                             std::to_string(found));
   DotFrame f;
   f.t = csv::number(fields[0], origin, line_number, "t_s");
   for (size_t s = 0; s < kSlots; ++s) {
@@ -70,7 +71,7 @@ DotsCsvReader::DotsCsvReader(std::istream& in, std::string origin)
     : in_(in), origin_(std::move(origin)) {}
 
 std::optional<DotFrame> DotsCsvReader::next() {
-  std::string line;
+  std::string& line = line_buf_;  // reused: no allocation per line
   while (std::getline(in_, line)) {
     ++line_;
     if (csv::trim(line).empty() || line == "\r") continue;

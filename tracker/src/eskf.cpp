@@ -16,12 +16,89 @@ namespace {
 constexpr double kMaxScale = 1e3;
 
 /// Error-state transition over dt for the constant-velocity model.
-Mat12 transition(const Vec3& w, double dt) {
+Mat12 transition(const Mat3& exp_w_dt, double dt) {
   Mat12 F = Mat12::Identity();
-  F.block<3, 3>(0, 0) = exp_so3(w * dt);  // exp(w dt) exp(d) R = exp(exp(w dt) d) exp(w dt) R
+  F.block<3, 3>(0, 0) = exp_w_dt;  // exp(w dt) exp(d) R = exp(exp(w dt) d) exp(w dt) R
   F.block<3, 3>(0, 6) = dt * Mat3::Identity();
   F.block<3, 3>(3, 9) = dt * Mat3::Identity();
   return F;
+}
+
+/// F P F^T for the transition above without the dense 12x12 products: F is
+/// the identity but for the rotation block and two dt blocks.
+Mat12 propagate(const Mat12& P, const Mat3& A, double dt) {
+  Mat12 G = P;  // F P: block rows
+  G.middleRows<3>(0) = A * P.middleRows<3>(0) + dt * P.middleRows<3>(6);
+  G.middleRows<3>(3) += dt * P.middleRows<3>(9);
+  Mat12 out = G;  // (F P) F^T: block columns
+  out.middleCols<3>(0) = G.middleCols<3>(0) * A.transpose() + dt * G.middleCols<3>(6);
+  out.middleCols<3>(3) += dt * G.middleCols<3>(9);
+  return out;
+}
+
+/// Cholesky factor L (A = L L^T) of a symmetric positive-definite matrix,
+/// unrolled for the small fixed sizes here (Eigen's LDLT solve against an
+/// identity goes through its general matrix kernels). False when A is not
+/// positive definite to working precision.
+template <int N>
+bool cholesky(const Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, N>& L) {
+  L.setZero();
+  for (int j = 0; j < N; ++j) {
+    double d = A(j, j);
+    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
+    if (!(d > 0.0)) return false;
+    const double ljj = std::sqrt(d);
+    L(j, j) = ljj;
+    for (int i = j + 1; i < N; ++i) {
+      double v = A(i, j);
+      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
+      L(i, j) = v / ljj;
+    }
+  }
+  return true;
+}
+
+/// A^-1 from A's Cholesky factor: M = L^-1, A^-1 = M^T M.
+template <int N>
+Eigen::Matrix<double, N, N> inverse_from_cholesky(const Eigen::Matrix<double, N, N>& L) {
+  Eigen::Matrix<double, N, N> M = Eigen::Matrix<double, N, N>::Zero(), inv;
+  for (int j = 0; j < N; ++j) {
+    M(j, j) = 1.0 / L(j, j);
+    for (int i = j + 1; i < N; ++i) {
+      double v = 0.0;
+      for (int k = j; k < i; ++k) v -= L(i, k) * M(k, j);
+      M(i, j) = v / L(i, i);
+    }
+  }
+  for (int i = 0; i < N; ++i)
+    for (int j = 0; j <= i; ++j) {
+      double v = 0.0;
+      for (int k = i; k < N; ++k) v += M(k, i) * M(k, j);
+      inv(i, j) = inv(j, i) = v;
+    }
+  return inv;
+}
+
+/// x^T A^-1 x from A's Cholesky factor (one forward substitution).
+template <int N>
+double mahalanobis2(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& x) {
+  Eigen::Matrix<double, N, 1> y;
+  double sum = 0.0;
+  for (int i = 0; i < N; ++i) {
+    double v = x(i);
+    for (int k = 0; k < i; ++k) v -= L(i, k) * y(k);
+    y(i) = v / L(i, i);
+    sum += y(i) * y(i);
+  }
+  return sum;
+}
+
+/// Symmetric inverse: Cholesky when it works, else LDLT's (semi-definite).
+template <int N>
+Eigen::Matrix<double, N, N> sym_inverse(const Eigen::Matrix<double, N, N>& A) {
+  Eigen::Matrix<double, N, N> L;
+  if (cholesky<N>(A, L)) return inverse_from_cholesky<N>(L);
+  return A.ldlt().solve(Eigen::Matrix<double, N, N>::Identity());
 }
 
 /// Process noise of white acceleration (spectral densities qa, ql) over dt.
@@ -56,8 +133,7 @@ Mat6 pose_covariance(const Pose& pose, std::span<const Correspondence> dots, con
   // degenerate three-dot geometry invertible: its weak directions come out
   // with a huge variance, which is what they have.
   H.diagonal().array() += 1e-9 * H.diagonal().maxCoeff() + 1e-300;
-  Mat6 C = pixel_variance * H.ldlt().solve(Mat6::Identity());
-  return 0.5 * (C + C.transpose());
+  return pixel_variance * sym_inverse<6>(H);
 }
 
 void PixelNoiseEstimator::add(double sum_sq_px, int dots) {
@@ -98,28 +174,29 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
     start(z, cov, t);
     return x_;
   }
-  const Mat12 F = transition(w_, dt);
+  const Mat3 A = exp_so3(w_ * dt);
   const Mat12 Q = process_noise(p_.angular_accel_psd, p_.linear_accel_psd, dt);
-  const Pose x_pred{exp_so3(w_ * dt) * x_.R, x_.t + v_ * dt};
-  const Mat12 FPF = F * P_ * F.transpose();
+  const Pose x_pred{A * x_.R, x_.t + v_ * dt};
+  const Mat12 FPF = propagate(P_, A, dt);
 
   Eigen::Matrix<double, 6, 1> nu;
   nu.head<3>() = log_so3(z.R * x_pred.R.transpose());
   nu.tail<3>() = z.t - x_pred.t;
 
-  // The smallest process-noise scale that explains the measurement.
-  Mat12 P_pred;
-  Mat6 S;
-  Eigen::LDLT<Mat6> S_ldlt;
+  // The smallest process-noise scale that explains the measurement. Only
+  // the pose block of P_pred enters S; the whole of it is formed once.
+  Mat6 S, L;
   double nis = 0.0, scale = 1.0;
+  bool factored = false;
   for (scale = 1.0; scale <= kMaxScale; scale *= 10.0) {
-    P_pred = FPF + scale * Q;
-    S = P_pred.topLeftCorner<6, 6>() + cov;
-    S_ldlt.compute(S);
-    nis = nu.dot(S_ldlt.solve(nu));
+    S = FPF.topLeftCorner<6, 6>() + scale * Q.topLeftCorner<6, 6>() + cov;
+    factored = cholesky<6>(S, L);
+    nis = factored ? mahalanobis2<6>(L, nu) : nu.dot(S.ldlt().solve(nu));
     if (nis <= p_.manoeuvre_chi2) break;
   }
   scale = std::min(scale, kMaxScale);
+  const Mat6 S_inv = factored ? inverse_from_cholesky<6>(L) : sym_inverse<6>(S);
+  const Mat12 P_pred = FPF + scale * Q;
   nis_ = nis;
   q_scale_ = scale;
   step_.t = t;
@@ -127,7 +204,7 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   step_.w_pred = w_;
   step_.v_pred = v_;
   step_.P_pred = P_pred;
-  step_.F = F;
+  step_.F = transition(A, dt);
   step_.restart = false;
 
   if (!(nis <= p_.outlier_chi2)) {  // no head motion explains it: skip the measurement
@@ -149,17 +226,16 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   rejected_ = false;
   rejected_run_ = 0;
 
-  // K = P H^T S^-1 with H = [I6 0].
+  // K = P H^T S^-1 with H = [I6 0]; P = P_pred - K H P_pred (the Joseph
+  // form's algebraic equal for this optimal gain, at a quarter of its cost),
+  // symmetrised.
   const Eigen::Matrix<double, 12, 6> PHt = P_pred.leftCols<6>();
-  const Eigen::Matrix<double, 12, 6> K = S_ldlt.solve(PHt.transpose()).transpose();
+  const Eigen::Matrix<double, 12, 6> K = PHt * S_inv;
   const Vec12 dx = K * nu;
   x_ = inject(x_pred, dx.segment<3>(0), dx.segment<3>(3));
   w_ += dx.segment<3>(6);
   v_ += dx.segment<3>(9);
-  // Joseph form: stays symmetric positive definite.
-  Mat12 IKH = Mat12::Identity();
-  IKH.leftCols<6>() -= K;
-  P_ = IKH * P_pred * IKH.transpose() + K * cov * K.transpose();
+  P_.noalias() = P_pred - K * PHt.transpose();
   P_ = Mat12(0.5 * (P_ + P_.transpose()));  // a temporary: no aliasing through the transpose
   t_ = t;
   step_.pose_upd = x_;
@@ -175,41 +251,62 @@ std::optional<Pose> PoseEskf::predict(double t) const {
   return Pose{exp_so3(w_ * dt) * x_.R, x_.t + v_ * dt};
 }
 
-std::vector<Pose> rts_smooth(std::span<const EskfStep> steps) {
-  const size_t n = steps.size();
+void RtsSmoother::add(const EskfStep& step) {
+  if (!nodes_.empty() && !step.restart) {
+    // C = P_upd(k) F^T P_pred(k+1)^-1, the gain from step k+1 back to k.
+    const Mat12 C = last_P_upd_ * step.F.transpose() * sym_inverse<12>(step.P_pred);
+    nodes_.back().gain = C.cast<float>();
+  }
+  Node n;
+  n.pose_pred = step.pose_pred;
+  n.pose_upd = step.pose_upd;
+  n.w_pred = step.w_pred;
+  n.v_pred = step.v_pred;
+  n.w_upd = step.w_upd;
+  n.v_upd = step.v_upd;
+  n.restart = step.restart;
+  nodes_.push_back(n);
+  last_P_upd_ = step.P_upd;
+}
+
+std::vector<Pose> RtsSmoother::smooth() const {
+  const size_t n = nodes_.size();
   std::vector<Pose> out(n);
   if (n == 0) return out;
-  // Smoothed state of step k+1, walking backwards.
-  Pose xs = steps[n - 1].pose_upd;
-  Vec3 ws = steps[n - 1].w_upd, vs = steps[n - 1].v_upd;
-  Mat12 Ps = steps[n - 1].P_upd;
+  // Smoothed state of step k+1, walking backwards. Only the mean is carried:
+  // the output is poses, and the smoothed covariance does not feed the mean.
+  Pose xs = nodes_[n - 1].pose_upd;
+  Vec3 ws = nodes_[n - 1].w_upd, vs = nodes_[n - 1].v_upd;
   out[n - 1] = xs;
   for (size_t k = n - 1; k-- > 0;) {
-    const EskfStep& cur = steps[k];
-    const EskfStep& nxt = steps[k + 1];
+    const Node& cur = nodes_[k];
+    const Node& nxt = nodes_[k + 1];
     if (nxt.restart) {  // no model links k to k+1: the filter's answer stands
       xs = cur.pose_upd;
       ws = cur.w_upd;
       vs = cur.v_upd;
-      Ps = cur.P_upd;
       out[k] = xs;
       continue;
     }
-    // C = P_upd(k) F^T P_pred(k+1)^-1
-    const Mat12 C = nxt.P_pred.ldlt().solve(nxt.F * cur.P_upd).transpose();
     Vec12 d;
     d.segment<3>(0) = log_so3(xs.R * nxt.pose_pred.R.transpose());
     d.segment<3>(3) = xs.t - nxt.pose_pred.t;
     d.segment<3>(6) = ws - nxt.w_pred;
     d.segment<3>(9) = vs - nxt.v_pred;
-    const Vec12 dx = C * d;
+    const Vec12 dx = cur.gain.cast<double>() * d;
     xs = inject(cur.pose_upd, dx.segment<3>(0), dx.segment<3>(3));
     ws = cur.w_upd + dx.segment<3>(6);
     vs = cur.v_upd + dx.segment<3>(9);
-    Ps = cur.P_upd + C * (Ps - nxt.P_pred) * C.transpose();
     out[k] = xs;
   }
   return out;
+}
+
+std::vector<Pose> rts_smooth(std::span<const EskfStep> steps) {
+  RtsSmoother s;
+  s.reserve(steps.size());
+  for (const auto& st : steps) s.add(st);
+  return s.smooth();
 }
 
 }  // namespace earshot::tracker

@@ -19,7 +19,7 @@ std::optional<PixelModel> pixel_model_from(std::string_view name) {
 
 std::optional<MotionProfile> motion_profile_from(std::string_view name) {
   for (auto m : {MotionProfile::walk, MotionProfile::seated, MotionProfile::orienting, MotionProfile::nodding,
-                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed})
+                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed, MotionProfile::listener})
     if (name == motion_profile_name(m)) return m;
   return std::nullopt;
 }
@@ -33,6 +33,7 @@ std::string_view motion_profile_name(MotionProfile m) {
     case MotionProfile::walking: return "walking";
     case MotionProfile::tremor: return "tremor";
     case MotionProfile::mixed: return "mixed";
+    case MotionProfile::listener: return "listener";
   }
   return "?";
 }
@@ -104,6 +105,7 @@ Simulator::Simulator(const Camera& cam, const LedModel& model, SimulatorConfig c
   next_turn_t_ = 0.5 + 2.0 * uniform_(rng_);
   next_bout_t_ = 0.5 + 2.0 * uniform_(rng_);
   next_switch_t_ = 0.0;
+  if (cfg_.motion == MotionProfile::listener) next_look_t_ = 20.0 + 10.0 * uniform_(rng_);  // drawn last: other profiles' walks stay
 }
 
 void Simulator::step_profile(double dt, double t) {
@@ -158,7 +160,17 @@ void Simulator::step_profile(double dt, double t) {
     double to = (2.0 * uniform_(rng_) - 1.0) * kTurnYawMaxDeg * kDeg;
     if (std::abs(to - turn_yaw_) < 20.0 * kDeg) to = turn_yaw_ + std::copysign(20.0 * kDeg, -turn_yaw_);
     start_turn(to);
-  } else if (active_ != MotionProfile::orienting && std::abs(turn_yaw_) > 1e-6) {
+  } else if (active_ == MotionProfile::listener && !looking_away_ && t >= next_look_t_) {
+    // A look away: far enough that no LED stays in its beam.
+    const double side = uniform_(rng_) < 0.5 ? -1.0 : 1.0;
+    start_turn(side * (70.0 + 40.0 * uniform_(rng_)) * kDeg);
+    looking_away_ = true;
+    look_back_t_ = t + turn_T_ + 1.5 + 1.5 * uniform_(rng_);
+  } else if (active_ == MotionProfile::listener && looking_away_ && t >= look_back_t_) {
+    start_turn(0.0);
+    looking_away_ = false;
+    next_look_t_ = t + 60.0 + 60.0 * uniform_(rng_);
+  } else if (active_ != MotionProfile::orienting && active_ != MotionProfile::listener && std::abs(turn_yaw_) > 1e-6) {
     start_turn(0.0);
   }
 

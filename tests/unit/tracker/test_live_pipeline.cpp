@@ -210,6 +210,7 @@ struct FaultRun {
 FaultRun run_with_faults(std::vector<Fault> faults, long frames) {
   const Camera cam = Camera::with_focal(1280.0);
   SimSourceConfig sc;
+  sc.sim.motion = MotionProfile::walk;  // the walk over the box set below
   sc.sim.seed = 5;
   sc.sim.yaw_max_deg = 25;
   sc.sim.pitch_max_deg = 15;

@@ -20,6 +20,7 @@ namespace {
 
 std::unique_ptr<FrameSource> sim(long frames, Pacing pacing = Pacing::as_fast_as_possible) {
   SimSourceConfig c;
+  c.sim.motion = MotionProfile::walk;  // the walk over the box set below
   c.sim.seed = 3;
   c.sim.yaw_max_deg = 25;
   c.frames = frames;

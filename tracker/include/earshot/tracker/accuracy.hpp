@@ -45,6 +45,9 @@ struct TrackingTally {
 
   /// One frame: `tracked` says whether `estimate` is a tracked pose.
   void add(const DotFrame& f, bool tracked, const Pose& estimate);
+  /// The same from what it uses of the frame: LEDs seen (leds_seen) and the
+  /// true pose when known.
+  void add(int leds, const std::optional<Pose>& truth, bool tracked, const Pose& estimate);
 };
 
 }  // namespace earshot::tracker

@@ -45,6 +45,7 @@ class DotsCsvReader {
   long line_ = 0;
   bool has_truth_ = false;
   std::vector<std::string> header_;
+  std::string line_buf_;
 };
 
 /// Parses one data line (no header) of a Dots CSV. `with_truth` expects the

@@ -19,7 +19,10 @@ namespace earshot::tracker {
 enum class Pacing { real_time, as_fast_as_possible };
 
 struct SimSourceConfig {
-  SimulatorConfig sim{};
+  /// The simulated head: a seated listener with an occasional look away
+  /// (MotionProfile::listener), as a demo's listener would sit; set
+  /// `sim.motion = MotionProfile::walk` for the random walk over the box.
+  SimulatorConfig sim{.motion = MotionProfile::listener};
   Pacing pacing = Pacing::real_time;
   long frames = -1;  ///< frames before the source ends; -1: never
   std::vector<Fault> faults;

@@ -33,6 +33,12 @@
 //             deg amplitude, slowly modulated: the range of pathological head
 //             tremor (Deuschl et al. 1998, Mov. Disord. 13 S3:2).
 //  mixed      10-20 s segments of the five above in random order.
+//  listener   the demo's simulated listener (the default of SimSource): the
+//             seated head, in view, and now and then a look away: a quick
+//             turn of 70-110 deg yaw (minimum jerk, capped at 500 deg/s, as
+//             orienting's turns) that takes every LED out of its beam, held
+//             1.5-3 s, and back. The first comes 20-30 s in (so a 30 s demo
+//             shows the hold and ease of a loss), then one every 60-120 s.
 //
 // Angular speed, p50 / p99 / max deg/s (seeds 1001-1003, 60 s each):
 // walk 59/128/174, seated 28/73/102, orienting 13/180/471, nodding
@@ -56,7 +62,7 @@ namespace earshot::tracker {
 enum class PixelModel { exact, integer, quantize8, gaussian };
 [[nodiscard]] std::optional<PixelModel> pixel_model_from(std::string_view name);
 
-enum class MotionProfile { walk, seated, orienting, nodding, walking, tremor, mixed };
+enum class MotionProfile { walk, seated, orienting, nodding, walking, tremor, mixed, listener };
 [[nodiscard]] std::optional<MotionProfile> motion_profile_from(std::string_view name);
 [[nodiscard]] std::string_view motion_profile_name(MotionProfile m);
 
@@ -132,6 +138,8 @@ class Simulator {
   double turn_yaw_ = 0.0, turn_from_ = 0.0, turn_to_ = 0.0, turn_t0_ = 0.0, turn_T_ = 0.0;
   bool turning_ = false;
   double next_turn_t_ = 0.0;
+  bool looking_away_ = false;
+  double next_look_t_ = 1e300, look_back_t_ = 0.0;
   double bout_t0_ = -1.0, bout_T_ = 0.0, nod_f_ = 2.0, nod_amp_ = 0.0, nod_phase_ = 0.0, next_bout_t_ = 0.0;
   double step_f_ = 1.9, bob_mm_ = 20.0, sway_mm_ = 20.0, gait_phase_ = 0.0;
   double gait_level_ = 0.0, tremor_level_ = 0.0;

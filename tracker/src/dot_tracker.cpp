@@ -7,6 +7,10 @@
 #include "earshot/tracker/thesis_solver.hpp"
 
 namespace earshot::tracker {
+namespace {
+/// The fit gate in standard deviations of the estimated pixel noise.
+constexpr double kFitGateSigmas = 3.0;
+}  // namespace
 
 std::optional<FilterKind> filter_kind_from(std::string_view name) {
   if (name == "none") return FilterKind::none;
@@ -94,17 +98,28 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   LmSolver solver(cam_, model_);
   const int visible = frame.visible();
 
-  // Follow each hypothesis from its own prediction.
+  // The fit gate follows the camera's pixel noise: 8-px quantisation leaves
+  // residuals of a few pixels on every frame, which a gate set for integer
+  // pixels would reject. Never below the configured gate.
+  const double fit_gate = std::max(cfg_.labeller.fit_gate_px, kFitGateSigmas * std::sqrt(pixel_noise_.variance()));
+  labeller_.set_fit_gate_px(fit_gate);
+
+  // Follow each hypothesis from its own prediction: the output's from the
+  // eskf when it runs (its velocity is filtered; two noisy poses' difference
+  // is not, and with coarse pixels it throws the prediction tens of pixels
+  // off at speed), the rivals' from their last two poses.
   bool any_ok = false;
   for (auto& h : hyps_) {
     h.dots = 0;
-    const Pose pred = h.cv.predict(frame.t).value_or(h.pose);
+    std::optional<Pose> filtered;
+    if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) filtered = eskf_.predict(frame.t);
+    const Pose pred = filtered ? *filtered : h.cv.predict(frame.t).value_or(h.pose);
     const auto lab = labeller_.follow(frame, pred);
     if (!lab) continue;
     const auto pose = solver.solve({lab->dots.view(), &pred});
     if (!pose) continue;
     const double rms = rms_reprojection_error(*pose, lab->dots.view(), cam_, model_);
-    if (!(rms <= cfg_.labeller.fit_gate_px)) continue;
+    if (!(rms <= fit_gate)) continue;
     if (!leds_face_camera(*pose, model_, lab->dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
       continue;  // a mirror pose that turned the LEDs away: impossible
     h.pose = *pose;
@@ -215,6 +230,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
 TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
+    pixel_noise_.add(r.rms_px * r.rms_px * r.dots_used, r.dots_used);  // every filter: it sets the fit gate
     last_solve_t_ = r.t;
     last_raw_ = r.raw_pose;
     switch (cfg_.filter) {
@@ -225,7 +241,6 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
         LabelledDots dots;
         for (size_t s = 0; s < kSlots; ++s)
           if (r.slot_led[s] >= 0 && frame.slots[s]) dots.add(r.slot_led[s], *frame.slots[s]);
-        pixel_noise_.add(r.rms_px * r.rms_px * dots.count, dots.count);
         const Mat6 cov = pose_covariance(r.raw_pose, dots.view(), cam_, model_, pixel_variance());
         r.pose = eskf_.update(r.raw_pose, cov, r.t);
         // Three dots can fit two poses far apart, which no covariance

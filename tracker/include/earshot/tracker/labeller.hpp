@@ -71,6 +71,8 @@ class Labeller {
   [[nodiscard]] std::optional<Labelling> follow(const DotFrame& frame, const Pose& predicted) const;
 
   [[nodiscard]] const LabellerOptions& options() const { return opt_; }
+  /// The fit gate of acquisition (the tracker widens it for coarse pixels).
+  void set_fit_gate_px(double gate) { opt_.fit_gate_px = gate; }
 
  private:
   /// Hypotheses from P3P on dots order[0..2], checked against dot order[3].

@@ -62,7 +62,8 @@ void run_calibrate(const CalibrateOptions& o) {
                 s.z(), r.moved_mm[j]);
   }
   std::printf("least determined (sigma along each direction):\n");
-  for (const auto& w : r.weakest) std::printf("  %.3f mm: %s\n", w.sigma_mm, w.description.c_str());
+  for (const auto& w : r.weakest)
+    std::printf("  %.3f %s: %s\n", w.sigma_mm, w.focal_share > 0.5 ? "px" : "mm", w.description.c_str());
   if (r.advice.empty())
     std::printf("advice            none: the motion determined every LED\n");
   else

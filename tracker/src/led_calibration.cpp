@@ -279,13 +279,14 @@ std::string describe(const WeakDirection& w) {
   std::sort(parts.begin(), parts.end(), [](const auto& p, const auto& q) { return p.first > q.first; });
   std::string s;
   double covered = 0.0;
+  if (w.focal_share > 0.5) s = fmt("the focal length (share %.2f)", w.focal_share);
   for (const auto& [v, idx] : parts) {
-    if (!s.empty() && (covered > 0.8 || v < 0.2)) break;
+    if (v < 0.2 || (!s.empty() && covered > 0.8)) break;
     covered += v * v;
     if (!s.empty()) s += ", ";
     s += "LED " + std::to_string(idx / 3) + " " + axis_name(idx % 3) + fmt(" (%.2f)", v);
   }
-  if (w.focal_share > 0.2) s += fmt(", focal length (share %.2f)", w.focal_share);
+  if (w.focal_share > 0.2 && w.focal_share <= 0.5) s += fmt(", the focal length (share %.2f)", w.focal_share);
   return s;
 }
 

@@ -76,7 +76,7 @@ struct CalibrationOptions {
 /// A least determined direction of the model: an eigenvector of the reduced
 /// information matrix with one of its smallest eigenvalues.
 struct WeakDirection {
-  double sigma_mm = 0.0;            ///< standard deviation along it
+  double sigma_mm = 0.0;            ///< standard deviation along it (px where the focal length dominates)
   std::array<Vec3, 4> move{};       ///< unit direction, per LED (model frame)
   double focal_share = 0.0;         ///< squared weight of the focal length in it
   std::string description;          ///< e.g. "LED 3 z (depth) against LED 0 z"

@@ -79,12 +79,12 @@ TEST(VideoSim, LedCentroidsOnCleanFrames) {
   // background under the spot and the saturated tops.
   VideoSimConfig c = clean({});
   auto det = make_led_detector();
-  const Errors e = run(c, 150, *det);
+  const Errors e = run(c, 100, *det);
   std::printf("LEDs, clean 640x480: found %ld / %ld, RMS %.4f px, mean (%+.4f, %+.4f)\n", e.found, e.frames, e.rms(),
               e.mean_dx(), e.mean_dy());
-  ASSERT_GT(e.frames, 100);
+  ASSERT_GT(e.frames, 90);
   EXPECT_EQ(e.found, e.frames);
-  // Measured 0.024 px (seed 1): the background's texture under the spot and
+  // Measured 0.025 px (seed 1): the background's texture under the spot and
   // 8-bit rounding; a bias of a tenth of that would show.
   EXPECT_LT(e.rms(), 0.05);
 }
@@ -94,23 +94,23 @@ TEST(VideoSim, LedCentroidsOnRealisticFrames) {
   VideoSimConfig c;
   c.lamp = true;
   auto det = make_led_detector();
-  const Errors e = run(c, 150, *det);
+  const Errors e = run(c, 60, *det);
   std::printf("LEDs, realistic 640x480: found %ld / %ld, RMS %.4f px\n", e.found, e.frames, e.rms());
-  ASSERT_GT(e.frames, 100);
+  ASSERT_GT(e.frames, 50);
   EXPECT_GE(e.found, e.frames * 98 / 100);
-  EXPECT_LT(e.rms(), 0.06);  // measured 0.027 px: the bright, saturated spots shrug off the noise
+  EXPECT_LT(e.rms(), 0.06);  // measured 0.029 px: the bright, saturated spots shrug off the noise
 }
 
 TEST(VideoSim, TagCornersOnCleanFrames) {
   VideoSimConfig c = clean({});
   c.beacon = BeaconKind::apriltag;
   auto det = make_apriltag_detector();
-  const Errors e = run(c, 60, *det);
+  const Errors e = run(c, 30, *det);
   std::printf("tag, clean 640x480: found %ld / %ld, RMS %.4f px, mean (%+.4f, %+.4f)\n", e.found, e.frames, e.rms(),
               e.mean_dx(), e.mean_dy());
-  ASSERT_GT(e.frames, 50);
+  ASSERT_GT(e.frames, 25);
   EXPECT_GE(e.found, e.frames * 95 / 100);
-  EXPECT_LT(e.rms(), 0.2);  // measured 0.105 px: libapriltag's edge refinement
+  EXPECT_LT(e.rms(), 0.2);  // measured 0.137 px (30 frames, seed 1): libapriltag's edge refinement
   // The detector's mean offset (kCentreShift) is this measurement's.
   EXPECT_LT(std::abs(e.mean_dx()), 0.05);
   EXPECT_LT(std::abs(e.mean_dy()), 0.05);
@@ -120,17 +120,17 @@ TEST(VideoSim, TagCornersOnRealisticFrames) {
   VideoSimConfig c;
   c.beacon = BeaconKind::apriltag;
   auto det = make_apriltag_detector();
-  const Errors e = run(c, 60, *det);
+  const Errors e = run(c, 30, *det);
   std::printf("tag, realistic 640x480: found %ld / %ld, RMS %.4f px\n", e.found, e.frames, e.rms());
-  ASSERT_GT(e.frames, 50);
+  ASSERT_GT(e.frames, 25);
   EXPECT_GE(e.found, e.frames * 90 / 100);
-  EXPECT_LT(e.rms(), 0.25);  // measured 0.118 px
+  EXPECT_LT(e.rms(), 0.25);  // measured 0.154 px
 }
 
 TEST(VideoSim, DeterministicPerSeedWithDriftingExposure) {
   VideoSimConfig c;
-  c.width = 160;
-  c.height = 120;
+  c.width = 64;
+  c.height = 48;
   VideoSimulator a(c), b(c);
   c.seed = 2;
   VideoSimulator other(c);

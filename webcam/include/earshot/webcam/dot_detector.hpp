@@ -74,11 +74,15 @@ struct AprilTagOptions {
 };
 
 /// The LED detector: the four brightest compact blobs, threshold from the
-/// frame's own statistics.
+/// frame's own statistics (median + max(6 sigma, 16) grey levels, sigma from
+/// the MAD of a subsample), brightest first. Its scratch buffers are sized
+/// by the first frame of each size; later frames of that size allocate
+/// nothing.
 [[nodiscard]] std::unique_ptr<DotDetector> make_led_detector(const LedOptions& options = {});
 
 /// The AprilTag detector. Throws std::invalid_argument naming the family when
-/// libapriltag does not know it.
+/// libapriltag does not know it (or the id when the family has no such
+/// code, or a decimate below 1). libapriltag allocates inside each detection.
 [[nodiscard]] std::unique_ptr<DotDetector> make_apriltag_detector(const AprilTagOptions& options = {});
 
 /// A tag's corners in label order (Detection::points of a tag): 0 top-left,

@@ -114,16 +114,41 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     std::optional<Pose> filtered;
     if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) filtered = eskf_.predict(frame.t);
     const Pose pred = filtered ? *filtered : h.cv.predict(frame.t).value_or(h.pose);
-    const auto lab = labeller_.follow(frame, pred);
+    auto lab = labeller_.follow(frame, pred);
     if (!lab) continue;
-    const auto pose = solver.solve({lab->dots.view(), &pred});
-    if (!pose) continue;
-    const double rms = rms_reprojection_error(*pose, lab->dots.view(), cam_, model_);
-    if (!(rms <= fit_gate)) continue;
-    if (!leds_face_camera(*pose, model_, lab->dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
-      continue;  // a mirror pose that turned the LEDs away: impossible
-    h.pose = *pose;
-    h.cv.observe(*pose, frame.t);
+    // The pose of a labelling, if it fits and every LED it sees faces the camera.
+    auto fit = [&](const Labelling& l) -> std::optional<std::pair<Pose, double>> {
+      const auto pose = solver.solve({l.dots.view(), &pred});
+      if (!pose) return std::nullopt;
+      const double rms = rms_reprojection_error(*pose, l.dots.view(), cam_, model_);
+      if (!(rms <= fit_gate)) return std::nullopt;
+      if (!leds_face_camera(*pose, model_, l.dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
+        return std::nullopt;  // a mirror pose that turned the LEDs away: impossible
+      return std::pair{*pose, rms};
+    };
+    auto got = fit(*lab);
+    if (!got && lab->dots.count == 4) {
+      // Four matched but they do not fit: a stray inside the match gate taken
+      // for an LED, or one dot far off. The best-fitting three, near the
+      // prediction (the LM's prior), keep the thread.
+      for (size_t drop = 0; drop < kSlots; ++drop) {
+        if (lab->slot_led[drop] < 0) continue;
+        Labelling three;
+        for (size_t s = 0; s < kSlots; ++s)
+          if (s != drop && lab->slot_led[s] >= 0) {
+            three.slot_led[s] = lab->slot_led[s];
+            three.dots.add(lab->slot_led[s], *frame.slots[s]);
+          }
+        if (auto g = fit(three); g && (!got || g->second < got->second)) {
+          got = g;
+          *lab = three;
+        }
+      }
+    }
+    if (!got) continue;
+    const auto& [pose, rms] = *got;
+    h.pose = pose;
+    h.cv.observe(pose, frame.t);
     h.rms = rms;
     h.dots = lab->dots.count;
     h.slot_led = lab->slot_led;

@@ -2,8 +2,10 @@
 // ground truth and the per-frame ML limit. Prints markdown tables for
 // docs/BENCHMARKS.md.
 //
-//   webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both]
+//   webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both] [--decimate D]
 //
+// --decimate sets the tag detector's quad_decimate (1 by default; 2 halves
+// the segmentation's resolution, the corners are still refined at full).
 // Each run renders a head walk (VideoSimulator: noise, motion blur,
 // auto-exposure drift, 60-degree horizontal field of view, 30 frames/s,
 // 1/60 s exposure), detects the beacon in every frame and solves the pose:
@@ -60,6 +62,7 @@ struct Options {
   long frames = 300;
   std::vector<std::uint64_t> seeds{1001, 1002, 1003};
   bool leds = true, tag = true;
+  float decimate = 1.0f;  ///< the tag detector's quad_decimate
 };
 
 struct Stored {
@@ -88,7 +91,9 @@ void run(const Options& o, BeaconKind beacon, int width, int height, MotionProfi
     VideoSimulator sim(cfg);
     cam = sim.camera();
     model = sim.model();
-    auto det = beacon == BeaconKind::leds ? make_led_detector() : make_apriltag_detector();
+    AprilTagOptions tag_options;
+    tag_options.decimate = o.decimate;
+    auto det = beacon == BeaconKind::leds ? make_led_detector() : make_apriltag_detector(tag_options);
     DotTracker tracker(cam, model);
     LmSolver solver(cam, model);
     std::optional<Pose> last;
@@ -197,12 +202,14 @@ int main(int argc, char** argv) {
       if (s == "heldout") o.seeds = {1001, 1002, 1003};
       else if (s == "tuning") o.seeds = {1, 2, 3};
       else o.seeds = {std::strtoull(s.c_str(), nullptr, 10)};
+    } else if (a == "--decimate") {
+      o.decimate = static_cast<float>(std::atof(value().c_str()));
     } else if (a == "--beacon") {
       const std::string b = value();
       o.leds = b == "leds" || b == "both";
       o.tag = b == "apriltag" || b == "both";
     } else {
-      std::fprintf(stderr, "usage: webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both]\n");
+      std::fprintf(stderr, "usage: webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both] [--decimate D]\n");
       return 2;
     }
   }
@@ -210,8 +217,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "webcam_accuracy: nothing to run\n");
     return 2;
   }
-  std::printf("Synthetic webcam video, %ld frames x %zu seeds per row (30 frames/s, 60 deg horizontal FOV, 1/60 s exposure)\n\n",
-              o.frames, o.seeds.size());
+  std::printf("Synthetic webcam video, %ld frames x %zu seeds per row (30 frames/s, 60 deg horizontal FOV, 1/60 s exposure), "
+              "tag decimate %g\n\n", o.frames, o.seeds.size(), static_cast<double>(o.decimate));
   std::printf("| beacon | camera | motion | 4-point frames | found %% | tracked %% | dot RMS (px) | rot RMS (deg) | rot p95 | "
               "trans RMS (mm) | trans p95 | ML rot RMS | ML trans RMS | rot / ML | trans / ML | detect (ms CPU) | solve (ms CPU) |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");

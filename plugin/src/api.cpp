@@ -779,6 +779,18 @@ ES_API ESenum esGetTrackerState(ESworld h, EStrackerstate* state) {
   });
 }
 
+ES_API ESenum esGetTrackerImage(ESworld h, EStrackerimage* image) {
+  return control(h, "esGetTrackerImage", [&](World& w) -> ESenum {
+    if (!image) return fail(w, ES_INVALID_VALUE, "esGetTrackerImage: NULL pointer");
+    if (image->size < sizeof(EStrackerimage))
+      return fail(w, ES_INVALID_VALUE,
+                  format("esGetTrackerImage: image->size = %u, expected sizeof(EStrackerimage) = %zu",
+                         image->size, sizeof(EStrackerimage)));
+    w.tracker_image(*image);
+    return ES_OK;
+  });
+}
+
 // ---- rendering ----
 
 ES_API ESenum esRender(ESworld h, float* left, float* right, ESuint frames) {
@@ -809,6 +821,7 @@ constexpr ESproctable kTable = {
     esRender,
     esGetTrackerState,  // ABI 1.1
     esWorldHrtf,        // ABI 1.2
+    esGetTrackerImage,  // ABI 1.3
 };
 }  // namespace
 

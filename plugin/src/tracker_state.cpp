@@ -85,4 +85,35 @@ void fill_tracker_state(const tracker::LiveTracker::Status* st, EStrackerstate& 
   copy_text(out.message, message);
 }
 
+void fill_tracker_image(const tracker::Thumbnail* th, int camera_width, int camera_height, EStrackerimage& out) {
+  const ESuint size = out.size;
+  std::memset(&out, 0, sizeof out);  // the pixels beyond width * height too
+  out.size = size;
+  out.camera_width = static_cast<ESuint>(std::max(camera_width, 0));
+  out.camera_height = static_cast<ESuint>(std::max(camera_height, 0));
+  if (!th || th->width <= 0 || th->height <= 0) return;
+  const int w = std::min(th->width, ES_TRACKER_IMAGE_MAX_WIDTH), h = std::min(th->height, ES_TRACKER_IMAGE_MAX_HEIGHT);
+  static_assert(tracker::Thumbnail::kMaxWidth == ES_TRACKER_IMAGE_MAX_WIDTH &&
+                    tracker::Thumbnail::kMaxHeight == ES_TRACKER_IMAGE_MAX_HEIGHT,
+                "the C API's picture holds the tracker's thumbnail");
+  out.available = ES_TRUE;
+  out.width = static_cast<ESuint>(w), out.height = static_cast<ESuint>(h);
+  // Rows stay `th->width` apart in the thumbnail and `w` apart here (the same
+  // unless a thumbnail ever outgrew the C struct).
+  for (int y = 0; y < h; ++y)
+    std::memcpy(out.pixels + static_cast<std::size_t>(y) * static_cast<std::size_t>(w),
+                th->pixels.data() + static_cast<std::size_t>(y) * static_cast<std::size_t>(th->width),
+                static_cast<std::size_t>(w));
+  out.frame = static_cast<ESuint>(th->frame);  // wraps: a changed number is a new frame
+  out.time = std::isfinite(th->t) ? th->t : 0.0;
+  for (std::size_t k = 0; k < th->dots.size() && out.dot_count < ES_TRACKER_MAX_DOTS; ++k) {
+    const auto& d = th->dots[k];
+    if (!d || !std::isfinite(d->x()) || !std::isfinite(d->y())) continue;
+    EStrackerimagedot& o = out.dots[out.dot_count++];
+    o.x = static_cast<ESfloat>(d->x()), o.y = static_cast<ESfloat>(d->y());
+    o.label = th->labelled ? static_cast<ESint>(k) : -1;
+    o.slot = static_cast<ESint>(k);
+  }
+}
+
 }  // namespace earshot::plugin

@@ -211,12 +211,28 @@ void World::attach_tracker(const char* spec) {
     cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to neutral
     tracker::SourceOptions source;
     source.wait_for_remote = true;  // the host plays on and shows how to pair one (esGetTrackerState)
-    tracker_ = std::make_unique<tracker::LiveTracker>(
-        tracker::make_frame_source(tracker::parse_source_spec(spec, "tracker"), source), tracker_slot_, cfg);
+    const tracker::SourceSpec parsed = tracker::parse_source_spec(spec, "tracker");
+    auto frames = tracker::make_frame_source(parsed, source);
+    // The camera the dots are in, asked here before the tracker thread owns
+    // the source: a webcam's opened size, else the configured (Wii) camera.
+    const tracker::Camera cam = frames->camera().value_or(cfg.camera);
+    camera_width_ = parsed.sends_poses() ? 0 : cam.width;
+    camera_height_ = parsed.sends_poses() ? 0 : cam.height;
+    tracker_ = std::make_unique<tracker::LiveTracker>(std::move(frames), tracker_slot_, cfg);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
   }
   tracker_on_.store(true, std::memory_order_release);
+}
+
+void World::tracker_image(EStrackerimage& out) const {
+  if (!tracker_) {
+    fill_tracker_image(nullptr, 0, 0, out);
+    return;
+  }
+  tracker::Thumbnail th;  // on the control thread's stack: ~19 kB
+  const bool has = tracker_->thumbnail(th);
+  fill_tracker_image(has ? &th : nullptr, camera_width_, camera_height_, out);
 }
 
 void World::recenter() {

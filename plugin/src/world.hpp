@@ -131,6 +131,9 @@ class World {
   /// The tracker's status for the host (locks the tracker's status mutex,
   /// shared with the tracker thread only). Writes all of `out` but its size.
   void tracker_state(EStrackerstate& out) const;
+  /// The tracker's picture (locks the source's picture mutex, shared with
+  /// the tracker thread only). Writes all of `out` but its size.
+  void tracker_image(EStrackerimage& out) const;
   [[nodiscard]] bool propagation_delay() const { return params_.propagation_delay != ES_FALSE; }
 
   // ---- any thread ----
@@ -217,6 +220,7 @@ class World {
   PoseSlot tracker_slot_;
   std::atomic<bool> tracker_on_{false};
   std::unique_ptr<tracker::LiveTracker> tracker_;
+  int camera_width_ = 0, camera_height_ = 0;  // the attached source's camera image (0: poses only)
   PoseSlot used_pose_;  // written by the audio thread, read anywhere
 };
 

@@ -7,7 +7,8 @@
 // Input: a sequence of operations, one opcode byte each followed by its
 // argument bytes (handles picked from the live ones, stale ones or raw
 // bytes; floats raw, so NaN and infinity come up, or from a table of edges).
-// esGetTrackerState gets any struct size and NULL; its answer must be whole.
+// esGetTrackerState and esGetTrackerImage get any struct size and NULL;
+// their answers must be whole.
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -139,7 +140,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   int ops = 0;
   while (!in.empty() && ops++ < 256) {
     const ESworld target = in.u8() < 240 ? w : (in.u8() & 1 ? s.dead_world : in.u32());
-    const std::uint8_t op = in.u8() % 23;
+    const std::uint8_t op = in.u8() % 24;
     switch (op) {
       case 0: {
         ESsource src = 0;
@@ -255,6 +256,27 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           if (ts.dot_count > ES_TRACKER_MAX_DOTS || !std::memchr(ts.message, 0, sizeof ts.message) ||
               !std::memchr(ts.source, 0, sizeof ts.source) || !std::isfinite(ts.rate_hz))
             std::abort();
+        }
+        break;
+      }
+      case 22: {  // the tracker's picture (ABI 1.3): any size, NULL; none from these sources
+        static EStrackerimage im;  // ~19 kB: not on the fuzzer's stack
+        std::memset(&im, 0xA5, sizeof im);
+        const std::uint8_t how = in.u8();
+        im.size = how < 200 ? ESuint{sizeof im} : in.u32();
+        // 253: a running source without a picture (detached again below, so
+        // inputs stay independent); 255: a spec that cannot start.
+        if (how == 253) esAttachTracker(target, "sim");
+        if (how == 255) esAttachTracker(target, "carrier-pigeon");
+        const ESenum e = esGetTrackerImage(target, how == 254 ? nullptr : &im);
+        if (how == 253) esAttachTracker(target, nullptr);
+        if (e == ES_OK) {  // every field written, within its bounds
+          if (im.dot_count > ES_TRACKER_MAX_DOTS || im.width > ES_TRACKER_IMAGE_MAX_WIDTH ||
+              im.height > ES_TRACKER_IMAGE_MAX_HEIGHT || (im.available != ES_FALSE && im.available != ES_TRUE) ||
+              !std::isfinite(im.time))
+            std::abort();
+          for (std::size_t i = std::size_t{im.width} * im.height; i < sizeof im.pixels; ++i)
+            if (im.pixels[i] != 0) std::abort();
         }
         break;
       }

@@ -28,9 +28,9 @@
  *     it never blocks, allocates or locks. A second esRender() on the same
  *     world while one is running gets ES_WRONG_THREAD.
  *   - esGetHeadPose() and esGetErrorString() may come from any thread.
- *   - esGetTrackerState() comes from the control thread (it may wait a
- *     moment for the tracker thread's status lock; never from the audio
- *     thread).
+ *   - esGetTrackerState() and esGetTrackerImage() come from the control
+ *     thread (they may wait a moment for the tracker thread's status or
+ *     picture lock; never from the audio thread).
  *   - Source callbacks (ESsourcecallback) run on the audio thread, inside
  *     esRender().
  *   - esDestroyWorld() must come from the control thread; it waits for a
@@ -66,7 +66,8 @@ extern "C" {
  * minor version only appends functions to the table; a new major one breaks
  * it. */
 #define ES_ABI_VERSION_MAJOR 1u
-#define ES_ABI_VERSION_MINOR 2u /* 1: esGetTrackerState; 2: esWorldHrtf */
+#define ES_ABI_VERSION_MINOR 3u /* 1: esGetTrackerState; 2: esWorldHrtf;
+                                  * 3: esGetTrackerImage */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
 /* The file name to dlopen: the soname, which changes with the major version
  * (plugin/CMakeLists.txt reads both from this header, so they cannot drift). */
@@ -256,7 +257,9 @@ ES_API ESenum esReverbi(ESworld world, ESenum param, ESint value);
 ES_API ESenum esGetReverbf(ESworld world, ESenum param, ESfloat *value);
 
 /* Head tracking: start a live tracker on `spec` ("wiimote", "sim",
- * "replay:DOTS.csv", "opentrack[:PORT][@ADDR]", "osc[:PORT][@ADDR]") and let
+ * "replay:DOTS.csv", "opentrack[:PORT][@ADDR]", "osc[:PORT][@ADDR]",
+ * "webcam[:DEVICE or VIDEO.y4m][,beacon=leds|apriltag][,size_mm=S]...":
+ * docs/PLUGIN.md) and let
  * its pose turn and move the head relative to the listener. The pose sources
  * listen on 127.0.0.1 unless "@ADDR" names another IPv4 address (e.g.
  * "osc:9000@0.0.0.0" for every interface: pose packets are unauthenticated,
@@ -325,6 +328,50 @@ typedef struct EStrackerstate {
  * ES_INVALID_VALUE). Without a tracker: ES_TRACKER_NONE. Control thread. */
 ES_API ESenum esGetTrackerState(ESworld world, EStrackerstate *state);
 
+/* ---- The tracker's picture (esGetTrackerImage, ABI 1.3) --------------- */
+/* A camera source that sees a picture (a webcam: "webcam[:DEVICE][,...]")
+ * keeps its newest frame small and grey, with the dots it found in it, for
+ * a host's camera view. The Wii Remote's camera reports only dots: it, the
+ * simulator, a replay and the pose sources have no picture. */
+#define ES_TRACKER_IMAGE_MAX_WIDTH 160
+#define ES_TRACKER_IMAGE_MAX_HEIGHT 120
+
+typedef struct EStrackerimagedot {
+  ESfloat x, y;  /* thumbnail pixels (+x right, +y down; pixel centres at whole
+                  * numbers), as detected: before lens undistortion */
+  ESint label;   /* model point 0..3 (a tag's corner) when the detector labels
+                  * its dots; -1 unlabelled (LEDs: EStrackerstate has the
+                  * tracker's labels, in camera pixels) */
+  ESint slot;    /* the detector's slot 0..3 */
+} EStrackerimagedot;
+
+typedef struct EStrackerimage {
+  ESuint size;           /* set to sizeof(EStrackerimage) before the call */
+  ESboolean available;   /* ES_TRUE: the fields below hold a picture; ES_FALSE: no
+                          * tracker, a source without one, or no frame yet */
+  /* The source camera's whole image, pixels: the frame EStrackerstate's dots
+   * are in (a UI scales them by its view's size over these). The Wii
+   * Remote's 1024 x 768 for the Wii, simulator and replay; 0 x 0 without a
+   * tracker and for pose sources (opentrack, OSC). Set with or without a
+   * picture. */
+  ESuint camera_width, camera_height;
+  ESuint width, height;  /* the thumbnail: the camera's aspect within 160 x 120 */
+  ESuint frame;          /* frames the source delivered up to this one (wraps):
+                          * a new picture when it changes */
+  ESuint dot_count;      /* dots found in this frame, 0..4 */
+  double time;           /* the frame's time, seconds on the source's clock */
+  EStrackerimagedot dots[ES_TRACKER_MAX_DOTS];
+  /* Grey levels 0..255, row after row from the top, `width` bytes apart;
+   * width * height of them are set, the rest are 0. */
+  uint8_t pixels[ES_TRACKER_IMAGE_MAX_WIDTH * ES_TRACKER_IMAGE_MAX_HEIGHT];
+} EStrackerimage;
+
+/* Fills `image` (size set by the caller; smaller than this header's struct
+ * or NULL: ES_INVALID_VALUE). Without a tracker, or with one that has no
+ * picture: ES_OK with available = ES_FALSE. Copies about 19 kB under the
+ * source's picture lock: call it at a UI's frame rate. Control thread. */
+ES_API ESenum esGetTrackerImage(ESworld world, EStrackerimage *image);
+
 /* One block: block_size frames into left and right. The audio thread. */
 ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
 
@@ -376,6 +423,8 @@ typedef struct ESproctable {
   ESenum (*GetTrackerState)(ESworld, EStrackerstate *);
   /* ABI 1.2 */
   ESenum (*WorldHrtf)(ESworld, const char *);
+  /* ABI 1.3 */
+  ESenum (*GetTrackerImage)(ESworld, EStrackerimage *);
 } ESproctable;
 
 /* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),

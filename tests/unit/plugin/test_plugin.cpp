@@ -95,7 +95,8 @@ constexpr std::array kTableNames = {
     "esSourceRewind", "esReverbPreset", "esReverbf", "esReverbi", "esGetReverbf", "esAttachTracker",
     "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender",
     "esGetTrackerState",  // ABI 1.1 appended
-    "esWorldHrtf"};       // ABI 1.2 appended
+    "esWorldHrtf",        // ABI 1.2 appended
+    "esGetTrackerImage"}; // ABI 1.3 appended
 
 TEST(PluginAbi, TableVersionAndLayout) {
   const ESproctable* t = esGetProcTable(ES_ABI_VERSION_MAJOR);
@@ -111,8 +112,13 @@ TEST(PluginAbi, TableVersionAndLayout) {
   // ABI 1.1 appends esGetTrackerState after Render; nothing before it moves.
   EXPECT_EQ(offsetof(ESproctable, GetTrackerState), 8u + 40u * sizeof(void*));
   // ABI 1.2 appends esWorldHrtf.
-  EXPECT_EQ(t->abi_version & 0xFFFFu, 2u);
   EXPECT_EQ(offsetof(ESproctable, WorldHrtf), 8u + 41u * sizeof(void*));
+  // ABI 1.3 appends esGetTrackerImage.
+  EXPECT_EQ(t->abi_version & 0xFFFFu, 3u);
+  EXPECT_EQ(offsetof(ESproctable, GetTrackerImage), 8u + 42u * sizeof(void*));
+  EXPECT_EQ(sizeof(EStrackerimagedot), 16u) << "EStrackerimagedot changed: that is a new ABI";
+  EXPECT_EQ(offsetof(EStrackerimage, time), 32u) << "EStrackerimage changed: that is a new ABI";
+  EXPECT_EQ(sizeof(EStrackerimage), 104u + 160u * 120u) << "EStrackerimage changed: that is a new ABI";
   EXPECT_EQ(sizeof(EStrackerdot), 20u) << "EStrackerdot changed: that is a new ABI";
   EXPECT_EQ(sizeof(EStrackerstate), 684u) << "EStrackerstate changed: that is a new ABI";
   EXPECT_EQ(sizeof(ESproctable), 8u + kTableNames.size() * sizeof(void*));

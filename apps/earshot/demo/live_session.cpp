@@ -92,6 +92,16 @@ LiveSession::LiveSession(NamedScene first, const LiveOptions& o)
                  tracker_.failed.c_str());
 }
 
+const EStrackerimage& LiveSession::tracker_image() {
+  if (!image_) image_ = std::make_unique<EStrackerimage>();
+  image_->size = sizeof(EStrackerimage);
+  if (esGetTrackerImage(world_.id(), image_.get()) != ES_OK) {
+    image_->available = ES_FALSE;  // the view then shows the dots alone, as for a Wii Remote
+    image_->camera_width = image_->camera_height = 0;
+  }
+  return *image_;
+}
+
 void LiveSession::say(const std::string& m) {
   std::fprintf(stderr, "%searshot demo: %s\n", isatty(STDERR_FILENO) ? "\n" : "", m.c_str());
   message_ = m;

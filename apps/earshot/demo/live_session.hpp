@@ -4,6 +4,7 @@
 // presets, sounds, paths, rooms) and the changes the keys and the window ask
 // for. The device, the window and the terminal are elsewhere.
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -59,6 +60,9 @@ class LiveSession {
 
   [[nodiscard]] const host::TrackerStatus& tracker() const { return tracker_; }
   void refresh_tracker() { tracker_.refresh(world_.id()); }
+  /// The tracker's picture and camera size, asked for now (esGetTrackerImage;
+  /// a ~19 kB copy: at a window's frame rate, not the status line's).
+  [[nodiscard]] const EStrackerimage& tracker_image();
   void recenter() { (void)esRecenter(world_.id()); }
   /// Tells the person (stderr, and the window's message line).
   void say(const std::string& m);
@@ -87,6 +91,7 @@ class LiveSession {
   std::size_t scene_pick_ = 0, room_pick_ = 0, hrtf_pick_ = 0;
   std::uint64_t generation_ = 0;
   host::TrackerStatus tracker_;
+  std::unique_ptr<EStrackerimage> image_;  // on the heap: ~19 kB
 };
 
 }  // namespace earshot::demo

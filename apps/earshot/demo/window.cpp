@@ -9,7 +9,9 @@
 #include "earshot/geometry.hpp"
 #include "keys.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <fstream>
 #include <vector>
@@ -62,26 +64,39 @@ void view(const char* title, int ax, float sx, int ay, float sy, const char* axe
   ImGui::EndChild();
 }
 
-/// The tracker's camera image (1024 x 768, +x right, +y down) with its dots:
-/// each a circle as big as the camera says (when it says), with the LED label.
-void camera_view(const WindowModel& m, float width) {
-  const float height = width * 0.75f;
+/// The tracker's camera image (its size: the Wii Remote's 1024 x 768, a
+/// webcam's resolution; +x right, +y down), `width` wide with the camera's
+/// aspect: the camera's picture when there is one (`picture`: its texture),
+/// and over it the dots, each a circle as big as the camera says (when it
+/// says), with the LED label.
+void camera_view(const WindowModel& m, float width, ImTextureID picture) {
+  const float cw = float(std::max(m.camera_width, 1)), ch = float(std::max(m.camera_height, 1));
+  const float height = width * ch / cw;
   ImDrawList* d = ImGui::GetWindowDrawList();
   const ImVec2 p0 = ImGui::GetCursorScreenPos(), p1(p0.x + width, p0.y + height);
   d->AddRectFilled(p0, p1, IM_COL32(20, 20, 28, 255));
-  d->AddRect(p0, p1, IM_COL32(110, 110, 130, 255));
-  const float k = width / 1024.0f;
-  for (float g = 1; g < 4; ++g) {  // quarter lines
-    d->AddLine(ImVec2(p0.x + g * 256 * k, p0.y), ImVec2(p0.x + g * 256 * k, p1.y), IM_COL32(45, 45, 58, 255));
-    d->AddLine(ImVec2(p0.x, p0.y + g * 192 * k), ImVec2(p1.x, p0.y + g * 192 * k), IM_COL32(45, 45, 58, 255));
+  const float k = width / cw;
+  if (picture) {
+    // A little dimmed, so the coloured dots and labels stand out on a bright frame.
+    d->AddImage(picture, p0, p1, ImVec2(0, 0), ImVec2(1, 1), IM_COL32(190, 190, 190, 255));
+  } else {
+    for (float g = 1; g < 4; ++g) {  // quarter lines
+      d->AddLine(ImVec2(p0.x + g * width / 4, p0.y), ImVec2(p0.x + g * width / 4, p1.y), IM_COL32(45, 45, 58, 255));
+      d->AddLine(ImVec2(p0.x, p0.y + g * height / 4), ImVec2(p1.x, p0.y + g * height / 4), IM_COL32(45, 45, 58, 255));
+    }
   }
+  d->AddRect(p0, p1, IM_COL32(110, 110, 130, 255));
   static const ImU32 led_colour[4] = {IM_COL32(255, 90, 90, 255), IM_COL32(90, 220, 90, 255),
                                       IM_COL32(90, 160, 255, 255), IM_COL32(240, 220, 80, 255)};
+  // Sizes are the Wii camera's 0..15 there; a webcam's are its own (a tag's
+  // corners have none worth drawing): rings over its picture, the corner seen.
+  const bool wii_sizes = !picture && m.camera_width == 1024 && m.camera_height == 768;
   for (const auto& dot : m.dots) {
     const ImVec2 c(p0.x + dot.x * k, p0.y + dot.y * k);
-    const float r = dot.size >= 0 ? 3.0f + 0.8f * float(dot.size) : 5.0f;
+    const float r = wii_sizes && dot.size >= 0 ? 3.0f + 0.8f * float(std::min(dot.size, 15)) : 5.0f;
     const ImU32 col = dot.label >= 0 && dot.label < 4 ? led_colour[dot.label] : IM_COL32(220, 220, 220, 255);
-    d->AddCircleFilled(c, r, col);
+    if (picture) d->AddCircle(c, r, col, 16, 2.0f);
+    else d->AddCircleFilled(c, r, col);
     char text[32];
     if (dot.label >= 0) std::snprintf(text, sizeof text, "LED %d", dot.label);
     else std::snprintf(text, sizeof text, "?");
@@ -91,8 +106,9 @@ void camera_view(const WindowModel& m, float width) {
   }
   if (m.dots.empty())
     d->AddText(ImVec2(p0.x + 8, p0.y + height / 2 - 7), IM_COL32(150, 150, 160, 255), "no dots in view");
-  char size_text[48];
-  std::snprintf(size_text, sizeof size_text, "camera 1024 x 768, %zu dot%s", m.dots.size(), m.dots.size() == 1 ? "" : "s");
+  char size_text[64];
+  std::snprintf(size_text, sizeof size_text, "camera %d x %d, %zu dot%s", m.camera_width, m.camera_height,
+                m.dots.size(), m.dots.size() == 1 ? "" : "s");
   d->AddText(ImVec2(p0.x + 4, p0.y + 2), IM_COL32(150, 150, 160, 255), size_text);
   ImGui::Dummy(ImVec2(width, height));
 }
@@ -117,7 +133,48 @@ struct DemoWindow::Impl {
   GLFWwindow* window = nullptr;
   int width = 1280, height = 900;
   std::array<char, 512> file{};
+  // The camera's picture as a texture, uploaded when its frame changes.
+  GLuint picture = 0;
+  std::uint32_t picture_frame = 0;
+  int picture_width = 0, picture_height = 0;
+  std::vector<unsigned char> rgba;
+  long uploads = 0;
+
+  ImTextureID upload_picture(const WindowModel& m);
 };
+
+long DemoWindow::pictures() const { return impl_->uploads; }
+
+/// The model's picture as a texture (null: none); grey spread to RGBA, as
+/// every OpenGL 3 context takes it.
+ImTextureID DemoWindow::Impl::upload_picture(const WindowModel& m) {
+  const int w = m.picture_width, h = m.picture_height;
+  if (m.picture.empty() || w <= 0 || h <= 0 || m.picture.size() < std::size_t(w) * std::size_t(h)) return nullptr;
+  const bool fresh = !picture || w != picture_width || h != picture_height;
+  if (fresh || m.picture_frame != picture_frame) {
+    rgba.resize(std::size_t(w) * std::size_t(h) * 4);
+    for (std::size_t i = 0; i < std::size_t(w) * std::size_t(h); ++i) {
+      const unsigned char g = m.picture[i];
+      rgba[4 * i] = rgba[4 * i + 1] = rgba[4 * i + 2] = g;
+      rgba[4 * i + 3] = 255;
+    }
+    if (!picture) glGenTextures(1, &picture);
+    glBindTexture(GL_TEXTURE_2D, picture);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    if (fresh) {
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+      glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA, w, h, 0, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    } else {
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+    }
+    picture_width = w, picture_height = h, picture_frame = m.picture_frame;
+    ++uploads;
+  }
+  return reinterpret_cast<ImTextureID>(static_cast<std::intptr_t>(picture));
+}
 
 bool window_available() { return true; }
 
@@ -148,6 +205,7 @@ DemoWindow::DemoWindow(const std::string& title) : impl_(std::make_unique<Impl>(
 }
 
 DemoWindow::~DemoWindow() {
+  if (impl_->picture) glDeleteTextures(1, &impl_->picture);
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
@@ -179,7 +237,7 @@ void read_keys(WindowActions& a) {
   if (ImGui::IsKeyPressed(GLFW_KEY_Q, false) || ImGui::IsKeyPressed(GLFW_KEY_ESCAPE, false)) a.quit = true;
 }
 
-void tracker_column(const WindowModel& m) {
+void tracker_column(const WindowModel& m, ImTextureID picture) {
   ImGui::TextUnformatted("Tracker");
   ImGui::SameLine();
   ImGui::TextColored(state_colour(m.tracker_state), "%s", m.tracker_state.c_str());
@@ -187,7 +245,7 @@ void tracker_column(const WindowModel& m) {
   ImGui::TextDisabled("(%s)", m.tracker.c_str());
   ImGui::Text("%.0f frames/s   %llu frames   yaw %+.1f deg", double(m.tracker_rate), m.tracker_frames,
               earshot::ypr_from_quat(quat_of(m.head_orientation)).yaw * 180.0 / 3.14159265358979);
-  camera_view(m, 288);
+  camera_view(m, 288, picture);
   if (!m.tracker_message.empty() && !m.tracker_alarm) ImGui::TextWrapped("%s", m.tracker_message.c_str());
 }
 
@@ -293,7 +351,7 @@ WindowActions DemoWindow::frame(WindowModel& m) {
     ImGui::TableSetupColumn("audio", ImGuiTableColumnFlags_WidthFixed, 330);
     ImGui::TableSetupColumn("controls", ImGuiTableColumnFlags_WidthStretch);
     ImGui::TableNextColumn();
-    tracker_column(m);
+    tracker_column(m, impl_->upload_picture(m));
     ImGui::TableNextColumn();
     audio_column(m, a);
     ImGui::TableNextColumn();

@@ -1,7 +1,9 @@
 #pragma once
 // The demo's window (Dear ImGui over GLFW + OpenGL 3): top, front and side
 // views of the listener's head and the sources with their names and paths;
-// the tracker's camera (1024 x 768) with its dots and their LED labels, its
+// the tracker's camera (its own size: the Wii Remote's 1024 x 768, a
+// webcam's resolution) with its dots and their LED labels, under them the
+// camera's picture when the source has one (a webcam's thumbnail), its
 // state, rate and message ("no remote" and "disconnected" in a banner); audio
 // load and xruns; pickers for the scene, the room and, per source, the sound,
 // the path or a fixed position, gain and distance attenuation; a recenter
@@ -9,6 +11,7 @@
 // did: window_view.cpp applies it to the session (live_session.hpp).
 // Built only when Debian's libimgui-dev and libglfw3-dev are present.
 #include <array>
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -43,6 +46,12 @@ struct WindowModel {
   float tracker_rate = 0;
   unsigned long long tracker_frames = 0;
   std::vector<ViewDot> dots;
+  int camera_width = 1024, camera_height = 768;  ///< the image the dots are in
+  /// The camera's picture (esGetTrackerImage): grey, picture_width apart;
+  /// empty when the source has none. A new picture_frame: a new picture.
+  std::vector<std::uint8_t> picture;
+  int picture_width = 0, picture_height = 0;
+  std::uint32_t picture_frame = 0;
   // controls
   std::vector<ViewSource> sources;
   std::vector<std::string> scenes, rooms, sounds, paths, distance_models;
@@ -71,6 +80,8 @@ class DemoWindow {
   /// Writes the last frame as a PNG.
   void screenshot(const std::filesystem::path& png) const;
   [[nodiscard]] long frames() const { return frames_; }
+  /// Camera pictures uploaded and shown so far (new frames of the picture).
+  [[nodiscard]] long pictures() const;
   /// True when OpenGL is rendered in software (Mesa llvmpipe/softpipe, as
   /// under Xvfb): the window then draws without anti-aliasing.
   [[nodiscard]] bool software() const { return software_; }

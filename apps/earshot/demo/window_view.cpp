@@ -62,8 +62,9 @@ struct WindowView::Impl {
   std::vector<float> last_view;  ///< what view_changed saw last
 
   void describe(const LiveSession& session);
-  [[nodiscard]] bool view_changed(const HeadPose& head, const EStrackerstate& ts);
+  [[nodiscard]] bool view_changed(const HeadPose& head, const EStrackerstate& ts, const EStrackerimage& im);
   void fill(const LiveSession& session, const OutputStats& stats, const HeadPose& head, double t);
+  void fill_picture(const EStrackerimage& im);
   void apply(const WindowActions& act, LiveSession& session, double t);
   void apply_sources(const WindowActions& act, LiveSession& session, double t);
 };
@@ -86,11 +87,13 @@ void WindowView::Impl::describe(const LiveSession& session) {
 }
 
 /// True when what the window shows moved since the last call (head, sources,
-/// dots, the tracker's state): frames of an unchanged view are not drawn.
-bool WindowView::Impl::view_changed(const HeadPose& head, const EStrackerstate& ts) {
+/// dots, the tracker's state, a new camera picture): frames of an unchanged
+/// view are not drawn.
+bool WindowView::Impl::view_changed(const HeadPose& head, const EStrackerstate& ts, const EStrackerimage& im) {
   const float* p = head.position;
   const float* q = head.orientation;
-  std::vector<float> now{p[0], p[1], p[2], q[0], q[1], q[2], q[3], float(ts.state), float(ts.dot_count)};
+  std::vector<float> now{p[0], p[1], p[2], q[0], q[1], q[2], q[3], float(ts.state), float(ts.dot_count),
+                         float(im.available), float(im.frame % 4096)};
   for (const auto& s : model.sources) now.insert(now.end(), s.position.begin(), s.position.end());
   for (ESuint i = 0; i < ts.dot_count && i < ES_TRACKER_MAX_DOTS; ++i) {
     now.push_back(ts.dots[i].x);
@@ -120,6 +123,22 @@ void WindowView::Impl::fill(const LiveSession& session, const OutputStats& stats
     const EStrackerdot& d = tracker.raw.dots[i];
     model.dots.push_back({d.x, d.y, d.size, d.label});
   }
+}
+
+/// The camera's size and picture for the camera view; the picture is copied
+/// only when its frame changed (the window uploads it then).
+void WindowView::Impl::fill_picture(const EStrackerimage& im) {
+  model.camera_width = im.camera_width > 0 ? int(im.camera_width) : ES_CAMERA_WIDTH;
+  model.camera_height = im.camera_height > 0 ? int(im.camera_height) : ES_CAMERA_HEIGHT;
+  if (!im.available || im.width == 0 || im.height == 0) {
+    model.picture.clear();
+    model.picture_width = model.picture_height = 0;
+    return;
+  }
+  if (!model.picture.empty() && im.frame == model.picture_frame) return;
+  model.picture_width = int(im.width), model.picture_height = int(im.height);
+  model.picture.assign(im.pixels, im.pixels + std::size_t(im.width) * im.height);
+  model.picture_frame = im.frame;
 }
 
 void WindowView::Impl::apply(const WindowActions& act, LiveSession& session, double t) {
@@ -225,9 +244,11 @@ bool WindowView::tick(LiveSession& session, const OutputStats& stats, const Head
     const auto x = session.sources().position(i, t);
     v.model.sources[i].position = {float(x[0]), float(x[1]), float(x[2])};
   }
-  if (now - v.last_frame < milliseconds(250) && !v.view_changed(head, session.tracker().raw)) return true;
+  const EStrackerimage& picture = session.tracker_image();
+  if (now - v.last_frame < milliseconds(250) && !v.view_changed(head, session.tracker().raw, picture)) return true;
   v.last_frame = now;
   v.fill(session, stats, head, t);
+  v.fill_picture(picture);
   const WindowActions act = v.win->frame(v.model);
   v.last_frame_cost = std::chrono::duration_cast<milliseconds>(Clock::now() - now);
   if (act.quit) return false;
@@ -237,6 +258,10 @@ bool WindowView::tick(LiveSession& session, const OutputStats& stats, const Head
 
 void WindowView::finish(const LiveOptions& o) {
   std::printf("  window: %ld frames drawn\n", impl_->win->frames());
+  const WindowModel& m = impl_->model;
+  if (impl_->win->pictures() > 0)
+    std::printf("  window: %ld camera pictures shown (%d x %d of the camera's %d x %d)\n", impl_->win->pictures(),
+                m.picture_width, m.picture_height, m.camera_width, m.camera_height);
   if (!o.screenshot.empty()) {
     impl_->win->screenshot(o.screenshot);
     std::printf("  screenshot %s\n", o.screenshot.c_str());

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # GUI test of `earshot demo` (label gui): under Xvfb, with a JACK server on its
 # dummy driver as the audio device, the window opens, draws frames and writes
-# a screenshot. Exit 77 (skipped) with a message when Xvfb or jackd is missing.
+# a screenshot; then again with a webcam tracker playing a rendered AprilTag
+# video (`earshot track simulate-video`), whose camera view must show the
+# video's picture under the dots (screenshot OUT-webcam.png).
+# Exit 77 (skipped) with a message when Xvfb or jackd is missing.
 # Usage: demo_window_test.sh EARSHOT_EXE OUT.png
 set -euo pipefail
 exe=$1 png=$2
@@ -28,3 +31,19 @@ frames=$(echo "$out" | sed -n 's/.*window: \([0-9]*\) frames drawn.*/\1/p')
 [ -s "$png" ] && head -c 8 "$png" | grep -q PNG || { echo "FAIL: no PNG screenshot at $png"; exit 1; }
 echo "$out" | grep -q "tracker sim: tracking" || { echo "FAIL: the tracker's state is not reported"; exit 1; }
 echo "OK: $frames frames, screenshot $png, $(echo "$out" | sed -n 's/.*blocks, \([0-9]*\) xruns.*/\1/p') xruns"
+
+# The webcam: a 640x480 AprilTag video as the camera, its thumbnail in the view.
+video="${png%.png}-webcam.y4m" wpng="${png%.png}-webcam.png"
+trap 'kill $jack 2>/dev/null || true; rm -f "$video"' EXIT
+"$exe" track simulate-video --beacon apriltag --resolution 640x480 --seconds 10 --out "$video" >/dev/null
+rm -f "$wpng"
+out=$(xvfb-run -a -s "-screen 0 1280x900x24" "$exe" demo --device system --duration 5 \
+        --tracker "webcam:$video,beacon=apriltag,size_mm=80" --screenshot "$wpng" </dev/null 2>&1)
+echo "$out" | grep -v '^ALSA\|^Cannot\|JackShm\|jack server'
+frames=$(echo "$out" | sed -n 's/.*window: \([0-9]*\) frames drawn.*/\1/p')
+[ -n "$frames" ] && [ "$frames" -ge 2 ] || { echo "FAIL: webcam: the window drew ${frames:-no} frames"; exit 1; }
+[ -s "$wpng" ] && head -c 8 "$wpng" | grep -q PNG || { echo "FAIL: no PNG screenshot at $wpng"; exit 1; }
+echo "$out" | grep -q "tracker webcam:.*: tracking" || { echo "FAIL: the webcam tracker is not tracking"; exit 1; }
+echo "$out" | grep -q "camera pictures shown (160 x 120 of the camera's 640 x 480)" ||
+  { echo "FAIL: the camera view showed no picture of the webcam's 640x480 frames"; exit 1; }
+echo "OK: webcam: $frames frames, screenshot $wpng"

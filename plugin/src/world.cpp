@@ -215,9 +215,12 @@ void World::attach_tracker(const char* spec) {
     auto frames = tracker::make_frame_source(parsed, source);
     // The camera the dots are in, asked here before the tracker thread owns
     // the source: a webcam's opened size, else the configured (Wii) camera.
-    const tracker::Camera cam = frames->camera().value_or(cfg.camera);
-    camera_width_ = parsed.sends_poses() ? 0 : cam.width;
-    camera_height_ = parsed.sends_poses() ? 0 : cam.height;
+    // A webcam not opened yet (waiting for its device) has no size to give.
+    const std::optional<tracker::Camera> own = frames->camera();
+    const bool unknown = parsed.sends_poses() || (!own && parsed.kind == tracker::SourceSpec::Kind::webcam);
+    const tracker::Camera cam = own.value_or(cfg.camera);
+    camera_width_ = unknown ? 0 : cam.width;
+    camera_height_ = unknown ? 0 : cam.height;
     tracker_ = std::make_unique<tracker::LiveTracker>(std::move(frames), tracker_slot_, cfg);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};

@@ -351,9 +351,10 @@ typedef struct EStrackerimage {
                           * tracker, a source without one, or no frame yet */
   /* The source camera's whole image, pixels: the frame EStrackerstate's dots
    * are in (a UI scales them by its view's size over these). The Wii
-   * Remote's 1024 x 768 for the Wii, simulator and replay; 0 x 0 without a
-   * tracker and for pose sources (opentrack, OSC). Set with or without a
-   * picture. */
+   * Remote's 1024 x 768 for the Wii, simulator and replay; a webcam's size
+   * as it was opened when attached. 0 x 0 without a tracker, for pose
+   * sources (opentrack, OSC) and for a webcam that was not there yet when
+   * attached. Set with or without a picture. */
   ESuint camera_width, camera_height;
   ESuint width, height;  /* the thumbnail: the camera's aspect within 160 x 120 */
   ESuint frame;          /* frames the source delivered up to this one (wraps):

@@ -1,7 +1,8 @@
 // esGetTrackerImage (ABI 1.3): a webcam source playing a rendered Y4M video
 // (the renderer `earshot track simulate-video` uses) gives the host the
 // video's frame, box-downscaled to the thumbnail, with the tag's corners
-// where the projected truth puts them; sources without a picture say so;
+// where the projected truth puts them; sources without a picture (the
+// simulator, a webcam not plugged in) say so;
 // bad arguments are refused as esGetTrackerState refuses them.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -155,6 +156,13 @@ TEST(TrackerImage, SourcesWithoutAPicture) {
   EXPECT_EQ(im->camera_height, ESuint{ES_CAMERA_HEIGHT});
   EXPECT_EQ(im->width, 0u);
   EXPECT_EQ(im->dot_count, 0u);
+
+  // A webcam that is not there (yet): no picture, and no size to scale by.
+  ASSERT_EQ(esAttachTracker(t.w, "webcam:/dev/video97"), ES_OK) << esGetErrorMessage(t.w);
+  im = t.image();
+  EXPECT_EQ(im->available, ES_FALSE);
+  EXPECT_EQ(im->camera_width, 0u);
+  EXPECT_EQ(im->camera_height, 0u);
 }
 
 TEST(TrackerImage, Misuse) {

@@ -82,7 +82,7 @@ class AprilTagDetector final : public DotDetector {
     for (int i = 0; i < zarray_size(found.get()); ++i) {
       apriltag_detection_t* d = nullptr;
       zarray_get(found.get(), i, &d);
-      if (!d || (opt_.id >= 0 && d->id != opt_.id)) continue;
+      if (!d || (opt_.id >= 0 && d->id != opt_.id) || !plausible(*d, frame.width, frame.height)) continue;
       if (!best || d->decision_margin > best->decision_margin) best = d;
     }
     if (!best) return out;
@@ -104,6 +104,28 @@ class AprilTagDetector final : public DotDetector {
   [[nodiscard]] std::string describe() const override { return describe_; }
 
  private:
+  /// A quad a printed tag can make: strictly convex, and every corner within
+  /// two pixels of the frame (a tag whose bits were all read lies in view;
+  /// libapriltag extrapolates corners from the edges, so a near-degenerate
+  /// quad decoded from noise can put one hundreds of pixels away: found by
+  /// fuzz_dot_detector).
+  static bool plausible(const apriltag_detection_t& d, int width, int height) {
+    constexpr double kMargin = 2.0;
+    double sign = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const double* a = d.p[k];
+      const double* b = d.p[(k + 1) % 4];
+      const double* c = d.p[(k + 2) % 4];
+      if (!std::isfinite(a[0]) || !std::isfinite(a[1])) return false;
+      const double x = a[0] + kCentreShift, y = a[1] + kCentreShift;  // as reported
+      if (x < -kMargin || y < -kMargin || x > width - 1 + kMargin || y > height - 1 + kMargin) return false;
+      const double cross = (b[0] - a[0]) * (c[1] - b[1]) - (b[1] - a[1]) * (c[0] - b[0]);
+      if (cross == 0.0 || (sign != 0.0 && (cross > 0.0) != (sign > 0.0))) return false;
+      sign = cross;
+    }
+    return true;
+  }
+
   AprilTagOptions opt_;
   detail::FamilyPtr family_;
   std::unique_ptr<apriltag_detector_t, DetectorDeleter> detector_;

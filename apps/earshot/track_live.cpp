@@ -179,7 +179,7 @@ void add_track_live_commands(CLI::App& track) {
 
   auto ro = std::make_shared<LiveOptions>();
   auto* rec = track.add_subcommand("record", "Record a camera source's dots (e.g. a real Wii Remote) as a Dots CSV");
-  rec->add_option("--source,-s", ro->source, "Input: wiimote, sim, replay:FILE")->capture_default_str();
+  rec->add_option("--source,-s", ro->source, "Input: wiimote, sim, replay:FILE, webcam[:DEVICE][,OPTION=VALUE...]")->capture_default_str();
   rec->add_option("--out,-o", ro->out, "Dots CSV to write")->required();
   add_common(*rec, *ro);
   rec->callback([ro] { run_record(*ro); });

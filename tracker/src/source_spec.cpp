@@ -80,6 +80,10 @@ WebcamSpec parse_webcam(std::string_view spec, std::string_view field, std::stri
     } else if (key == "id") {
       if (!parse_number(value, w.id) || w.id < 0 || w.id > 65535) throw fail("bad tag id '" + v + "' (0-65535)");
       tag_option = true;
+    } else if (key == "decimate") {
+      if (!parse_number(value, w.decimate) || !std::isfinite(w.decimate) || w.decimate < 1.0 || w.decimate > 8.0)
+        throw fail("bad decimate '" + v + "' (the tag search's image reduction, 1-8)");
+      tag_option = true;
     } else if (key == "focal") {
       double f = 0.0;
       if (!parse_number(value, f) || !std::isfinite(f) || f < 10.0 || f > 100000.0)
@@ -97,12 +101,12 @@ WebcamSpec parse_webcam(std::string_view spec, std::string_view field, std::stri
       if (!parse_number(value, w.max_fps) || w.max_fps < 1 || w.max_fps > 1000)
         throw fail("bad fps '" + v + "' (frames per second, 1-1000)");
     } else {
-      throw fail("unknown webcam option '" + k + "' (beacon, size_mm, family, id, focal, calib, resolution, fps)");
+      throw fail("unknown webcam option '" + k + "' (beacon, size_mm, family, id, decimate, focal, calib, resolution, fps)");
     }
     if (next == std::string_view::npos) break;
   }
   if (tag_option && w.beacon != WebcamSpec::Beacon::apriltag)
-    throw fail("size_mm, family and id are for beacon=apriltag (the LED beacon's shape comes from --model)");
+    throw fail("size_mm, family, id and decimate are for beacon=apriltag (the LED beacon's shape comes from --model)");
   return w;
 }
 

@@ -13,6 +13,7 @@ std::unique_ptr<FrameSource> make_webcam_source(const WebcamSpec& spec, const So
     webcam::AprilTagOptions a;
     a.family = spec.family;
     a.id = spec.id;
+    a.decimate = static_cast<float>(spec.decimate);
     try {
       detector = webcam::make_apriltag_detector(a);
     } catch (const std::invalid_argument& e) {

@@ -48,13 +48,16 @@ TEST(WebcamSpec, DevicesByPathNumberOrVideoFile) {
 
 TEST(WebcamSpec, EveryOption) {
   const SourceSpec s = parse_source_spec(
-      "webcam:1,beacon=apriltag,size_mm=62.5,family=tag25h9,id=7,focal=910.5,calib=cam.yml,resolution=640x480,fps=60");
+      "webcam:1,beacon=apriltag,size_mm=62.5,family=tag25h9,id=7,decimate=1,focal=910.5,calib=cam.yml,resolution=640x480,"
+      "fps=60");
   const WebcamSpec& w = s.webcam;
   EXPECT_EQ(w.device, "/dev/video1");
   EXPECT_EQ(w.beacon, Beacon::apriltag);
   EXPECT_DOUBLE_EQ(w.size_mm, 62.5);
   EXPECT_EQ(w.family, "tag25h9");
   EXPECT_EQ(w.id, 7);
+  EXPECT_DOUBLE_EQ(w.decimate, 1.0);
+  EXPECT_DOUBLE_EQ(parse_source_spec("webcam,beacon=apriltag").webcam.decimate, 2.0) << "the default";
   ASSERT_TRUE(w.focal_px);
   EXPECT_DOUBLE_EQ(*w.focal_px, 910.5);
   EXPECT_EQ(w.calib, "cam.yml");
@@ -70,11 +73,11 @@ TEST(WebcamSpec, BadOptionsNameTheOptionAndTheSpec) {
   EXPECT_EQ(error_of("webcam,beacon=laser", "tracker"),
             "tracker: source 'webcam,beacon=laser': bad beacon 'laser' (leds or apriltag)");
   EXPECT_EQ(error_of("webcam,colour=red"),
-            "--source: source 'webcam,colour=red': unknown webcam option 'colour' (beacon, size_mm, family, id, focal, "
-            "calib, resolution, fps)");
+            "--source: source 'webcam,colour=red': unknown webcam option 'colour' (beacon, size_mm, family, id, decimate, "
+            "focal, calib, resolution, fps)");
   EXPECT_EQ(error_of("webcam,size_mm=60"),
-            "--source: source 'webcam,size_mm=60': size_mm, family and id are for beacon=apriltag (the LED beacon's shape "
-            "comes from --model)");
+            "--source: source 'webcam,size_mm=60': size_mm, family, id and decimate are for beacon=apriltag (the LED beacon's "
+            "shape comes from --model)");
   EXPECT_EQ(error_of("webcam,fps=30,fps=60"), "--source: source 'webcam,fps=30,fps=60': webcam option 'fps' given twice");
   const std::pair<const char*, const char*> bad[] = {
       {"webcam,beacon=apriltag,size_mm=0", "bad size_mm '0'"},
@@ -82,6 +85,8 @@ TEST(WebcamSpec, BadOptionsNameTheOptionAndTheSpec) {
       {"webcam,beacon=apriltag,size_mm=nan", "bad size_mm 'nan'"},
       {"webcam,beacon=apriltag,id=-1", "bad tag id '-1'"},
       {"webcam,beacon=apriltag,id=1.5", "bad tag id '1.5'"},
+      {"webcam,beacon=apriltag,decimate=0.5", "bad decimate '0.5'"},
+      {"webcam,beacon=apriltag,decimate=9", "bad decimate '9'"},
       {"webcam,focal=0", "bad focal '0'"},
       {"webcam,focal=inf", "bad focal 'inf'"},
       {"webcam,resolution=640", "bad resolution '640'"},

@@ -14,7 +14,9 @@
 //                            watching the LED beacon or a printed AprilTag.
 //                            Options: beacon=leds|apriltag, size_mm=S (the
 //                            tag's black square), family=F and id=N (which
-//                            tag), focal=F (pixels) or calib=FILE (OpenCV's
+//                            tag), decimate=D (the tag search's image
+//                            reduction, default 2; 1 for a tag far away),
+//                            focal=F (pixels) or calib=FILE (OpenCV's
 //                            calibration YAML), resolution=WxH and fps=N (a
 //                            camera's largest size and rate to use; a file
 //                            plays as it is). e.g. webcam:1,beacon=apriltag,size_mm=60
@@ -43,7 +45,7 @@ namespace earshot::tracker {
 /// The spellings accepted, for help texts and error messages.
 inline constexpr std::string_view kSourceSpecs =
     "wiimote, sim, replay:FILE, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR], "
-    "webcam[:DEVICE][,beacon=leds|apriltag][,size_mm=S][,family=F][,id=N][,focal=F][,calib=FILE]"
+    "webcam[:DEVICE][,beacon=leds|apriltag][,size_mm=S][,family=F][,id=N][,decimate=D][,focal=F][,calib=FILE]"
     "[,resolution=WxH][,fps=N]";
 
 /// Where pose inputs listen unless the spec says otherwise.
@@ -58,6 +60,11 @@ struct WebcamSpec {
   double size_mm = 50.0;           ///< apriltag: side of the tag's outer black square
   std::string family = "tag36h11";  ///< apriltag: the tag family
   int id = -1;                      ///< apriltag: only this id; -1 any
+  /// apriltag: libapriltag's quad decimation. 2 finds the quads on a
+  /// half-size image (the corners are still refined at full size): as
+  /// accurate as 1 on rendered walks and a quarter of the cost (5 against
+  /// 18 ms a 640x480 frame; docs/BENCHMARKS.md), so it is the default.
+  double decimate = 2.0;
   std::optional<double> focal_px;   ///< focal length in pixels (overrides the calibration's)
   std::string calib;                ///< OpenCV calibration YAML; empty: none
   int max_width = 0, max_height = 0;  ///< capture at most this size; 0: the default (1280x720)

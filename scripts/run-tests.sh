@@ -50,7 +50,7 @@ stage "TSan build (threaded tests, label threads)"
 cmake -S . -B build/tsan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DEARSHOT_SANITIZE=thread -DEARSHOT_BUILD_BENCH=OFF >/dev/null
 cmake --build build/tsan -j "$jobs" --target common_tests tracker_thread_tests plugin_tests hrtf_cache_tests \
-  lv2_core_tests lv2_plugin_tests
+  lv2_core_tests lv2_plugin_tests webcam_source_tests
 stage "TSan tests"
 TSAN_OPTIONS=halt_on_error=1 ctest --test-dir build/tsan --output-on-failure -j "$jobs" -L threads
 echo "== ${stage_name} took $((SECONDS - stage_start)) s"

@@ -91,6 +91,8 @@ void camera_view(const WindowModel& m, float width, ImTextureID picture) {
   // Sizes are the Wii camera's 0..15 there; a webcam's are its own (a tag's
   // corners have none worth drawing): rings over its picture, the corner seen.
   const bool wii_sizes = !picture && m.camera_width == 1024 && m.camera_height == 768;
+  // A printed tag's points are its corners (0 top-left, clockwise as printed), not LEDs.
+  const char* point_name = m.tracker.find("beacon=apriltag") != std::string::npos ? "corner" : "LED";
   for (const auto& dot : m.dots) {
     const ImVec2 c(p0.x + dot.x * k, p0.y + dot.y * k);
     const float r = wii_sizes && dot.size >= 0 ? 3.0f + 0.8f * float(std::min(dot.size, 15)) : 5.0f;
@@ -98,7 +100,7 @@ void camera_view(const WindowModel& m, float width, ImTextureID picture) {
     if (picture) d->AddCircle(c, r, col, 16, 2.0f);
     else d->AddCircleFilled(c, r, col);
     char text[32];
-    if (dot.label >= 0) std::snprintf(text, sizeof text, "LED %d", dot.label);
+    if (dot.label >= 0) std::snprintf(text, sizeof text, "%s %d", point_name, dot.label);
     else std::snprintf(text, sizeof text, "?");
     // Odd labels to the left, even to the right: the beacon's dots sit close together.
     const float left = dot.label % 2 != 0 ? ImGui::CalcTextSize(text).x + 2 * r + 6 : 0.0f;

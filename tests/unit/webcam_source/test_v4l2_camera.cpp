@@ -37,7 +37,7 @@ TEST(V4l2Camera, NoSuchDeviceListsTheCamerasThereAre) {
             std::string("no camera at /dev/video0; connected cameras: /dev/video2, /dev/video3"));
 }
 
-TEST(V4l2Camera, BusyAndPermissionSayWhatToDo) {
+TEST(V4l2Camera, BusyAndPermissionNameTheFix) {
   const CameraError busy = camera_open_error("/dev/video0", EBUSY, {});
   EXPECT_EQ(busy.kind(), Kind::busy);
   EXPECT_STREQ(busy.what(), "/dev/video0 is busy: another program is using the camera (close it; `fuser /dev/video0` "

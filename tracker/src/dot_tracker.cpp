@@ -5,6 +5,7 @@
 
 #include "earshot/tracker/lm_solver.hpp"
 #include "earshot/tracker/thesis_solver.hpp"
+#include "settle_output.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -287,15 +288,7 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
       r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
     }
   }
-  if (r.state == PoseState::lost) {
-    if (last_output_) r.pose = *last_output_;  // hold the last pose
-  }
-  if (!r.pose.finite()) {  // never pass a bad number on
-    r.state = PoseState::lost;
-    r.pose = last_output_.value_or(Pose{});
-  }
-  r.has_pose = r.state != PoseState::lost || last_output_.has_value();
-  if (r.state != PoseState::lost) last_output_ = r.pose;
+  detail::settle_output(r, last_output_);  // hold the last pose when lost; never pass a bad number on
   return r;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "earshot/tracker/lm_solver.hpp"
+#include "settle_output.hpp"
 
 namespace earshot::tracker {
 
@@ -136,13 +137,7 @@ TrackResult LabelledTracker::finish(TrackResult r, const LabelledDots& dots) {
       r.pose = *p;
     }
   }
-  if (r.state == PoseState::lost && last_output_) r.pose = *last_output_;
-  if (!r.pose.finite()) {
-    r.state = PoseState::lost;
-    r.pose = last_output_.value_or(Pose{});
-  }
-  r.has_pose = r.state != PoseState::lost || last_output_.has_value();
-  if (r.state != PoseState::lost) last_output_ = r.pose;
+  detail::settle_output(r, last_output_);
   return r;
 }
 

@@ -20,33 +20,13 @@
 #include "earshot/earshot.h"
 #include "earshot/webcam/video_sim.hpp"
 #include "earshot/webcam/y4m_writer.hpp"
+#include "tracker_world.hpp"
 
 namespace {
 
 namespace webcam = earshot::webcam;
 
-struct World {
-  ESworld w = 0;
-  World() {
-    ESworldparams p;
-    esWorldParamsDefault(&p);
-    p.max_sources = 2;
-    EXPECT_EQ(esCreateWorld(&p, &w), ES_OK);
-  }
-  ~World() {
-    if (w) esDestroyWorld(w);
-  }
-  World(const World&) = delete;
-  World& operator=(const World&) = delete;
-
-  /// On the heap: the struct is ~19 kB.
-  std::unique_ptr<EStrackerimage> image() const {
-    auto im = std::make_unique<EStrackerimage>();
-    im->size = sizeof(EStrackerimage);
-    EXPECT_EQ(esGetTrackerImage(w, im.get()), ES_OK) << esGetErrorMessage(w);
-    return im;
-  }
-};
+using World = earshot::plugin_tests::TrackerWorld;
 
 /// A short AprilTag video, kept in memory as well as written.
 struct Video {

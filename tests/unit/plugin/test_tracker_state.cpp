@@ -23,47 +23,11 @@
 #include "earshot/tracker/simulator.hpp"
 #include "earshot/tracker/wiimote_source.hpp"
 #include "tracker_state.hpp"
+#include "tracker_world.hpp"
 
 namespace {
 
-constexpr ESuint kBlock = 128;
-
-struct World {
-  ESworld w = 0;
-  World() {
-    ESworldparams p;
-    esWorldParamsDefault(&p);
-    p.max_sources = 2;
-    EXPECT_EQ(esCreateWorld(&p, &w), ES_OK);
-  }
-  ~World() {
-    if (w) esDestroyWorld(w);
-  }
-  World(const World&) = delete;
-  World& operator=(const World&) = delete;
-
-  EStrackerstate state() const {
-    EStrackerstate s{};
-    s.size = sizeof s;
-    EXPECT_EQ(esGetTrackerState(w, &s), ES_OK) << esGetErrorMessage(w);
-    return s;
-  }
-  /// Polls (rendering a block each time, so the head pose moves) until `ok`.
-  bool wait_for(const std::function<bool(const EStrackerstate&)>& ok, int tries = 1000) const {
-    std::array<float, kBlock> l{}, r{};
-    for (int i = 0; i < tries; ++i) {
-      EXPECT_EQ(esRender(w, l.data(), r.data(), kBlock), ES_OK);
-      if (ok(state())) return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
-  }
-  double head_angle_deg() const {
-    ESfloat p[3], q[4];
-    EXPECT_EQ(esGetHeadPose(w, p, q), ES_OK);
-    return 2.0 * std::acos(std::min(1.0, std::abs(double(q[0])))) * 180.0 / 3.14159265358979;
-  }
-};
+using World = earshot::plugin_tests::TrackerWorld;
 
 bool has(const char* text, const char* part) { return std::string(text).find(part) != std::string::npos; }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "source_spec_error.hpp"
 #include "earshot/tracker/udp_pose_source.hpp"
 
 namespace earshot::tracker {
@@ -14,16 +15,7 @@ namespace {
 
 using Kind = SourceSpec::Kind;
 
-/// The message parse_source_spec throws for `spec` (fails if it parses).
-std::string error_of(std::string_view spec, std::string_view field = "--source") {
-  try {
-    (void)parse_source_spec(spec, field);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "'" << spec << "' parsed";
-  return {};
-}
+using spec_tests::error_of;
 
 TEST(SourceSpec, ParsesEveryKind) {
   EXPECT_EQ(parse_source_spec("wiimote").kind, Kind::wiimote);

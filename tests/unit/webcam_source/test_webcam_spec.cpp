@@ -5,6 +5,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
+#include "../tracker/source_spec_error.hpp"
 #include "earshot/tracker/source_spec.hpp"
 
 namespace earshot::tracker {
@@ -12,15 +13,7 @@ namespace {
 
 using Beacon = WebcamSpec::Beacon;
 
-std::string error_of(std::string_view spec, std::string_view field = "--source") {
-  try {
-    (void)parse_source_spec(spec, field);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "'" << spec << "' parsed";
-  return {};
-}
+using spec_tests::error_of;
 
 TEST(WebcamSpec, DefaultsToTheFirstCameraAndLeds) {
   const SourceSpec s = parse_source_spec("webcam");

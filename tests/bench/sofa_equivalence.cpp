@@ -15,12 +15,11 @@
 //
 // Per kind and render rate it prints: the worst impulse-level error energy
 // (dB below the response), the worst ILD and ITD errors at measured
-// directions (ITD by the cross-correlation peak of each pair), the load time
+// directions (ILD and ITD by tests/analysis/binaural_cues.hpp), the load time
 // (HrtfSet::load, wall) and the heap the loaded set plus one renderer hold.
 //
 //   sofa_equivalence [--kinds a,b,...] [--rates 44100,48000,96000] [--dir DIR]
 //                    [--dump-worst DIR]
-#include <kiss_fftr.h>
 #include <malloc.h>
 
 #include <CLI/CLI.hpp>
@@ -34,15 +33,20 @@
 #include <memory>
 #include <mysofa.h>
 #include <numbers>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "binaural_cues.hpp"
 #include "earshot/audio/fractional_delay.hpp"
+#include "earshot/audio/real_fft.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
 namespace fs = std::filesystem;
+using earshot::analysis::ild_db;
+using earshot::analysis::itd_s;
 using earshot::audio::Renderer;
 
 namespace {
@@ -73,46 +77,28 @@ struct SofaDeleter {
 };
 
 /// `x` delayed by `d` samples (any real d; negative: earlier, dropping the
-/// leading silence of the delay line), `n` samples out: a phase
-/// ramp in the frequency domain over a zero-padded FFT long enough that
-/// nothing wraps. Exact for the band-limited responses compared here.
+/// leading silence of the delay line), `n` samples out: a phase ramp on the
+/// spectrum of a zero-padded FFT long enough that nothing wraps. Exact for
+/// the band-limited responses compared here.
 class Delayer {
  public:
-  explicit Delayer(std::size_t nfft)
-      : nfft_(nfft), fwd_(kiss_fftr_alloc(int(nfft), 0, nullptr, nullptr)), inv_(kiss_fftr_alloc(int(nfft), 1, nullptr, nullptr)),
-        time_(nfft), spec_(nfft / 2 + 1) {
-    if (!fwd_ || !inv_) throw std::runtime_error("kiss_fftr_alloc failed");
-  }
-  ~Delayer() {
-    kiss_fftr_free(fwd_);
-    kiss_fftr_free(inv_);
-  }
-  Delayer(const Delayer&) = delete;
-  Delayer& operator=(const Delayer&) = delete;
+  explicit Delayer(std::size_t nfft) : fft_(nfft), time_(nfft), spec_(fft_.bins()) {}
 
-  std::vector<double> operator()(const std::vector<float>& x, double d, std::size_t n) {
+  std::vector<float> operator()(const std::vector<float>& x, double d, std::size_t n) {
     std::fill(time_.begin(), time_.end(), 0.0f);
-    std::copy_n(x.begin(), std::min(x.size(), nfft_), time_.begin());
-    kiss_fftr(fwd_, time_.data(), spec_.data());
-    for (std::size_t k = 0; k < spec_.size(); ++k) {
-      const double w = -2.0 * std::numbers::pi * double(k) / double(nfft_) * d;
-      const std::complex<double> z = std::complex<double>(spec_[k].r, spec_[k].i) * std::polar(1.0, w);
-      spec_[k].r = float(z.real());
-      spec_[k].i = float(z.imag());
-    }
-    // The Nyquist bin of a real signal must stay real.
-    spec_.back().i = 0.0f;
-    kiss_fftri(inv_, spec_.data(), time_.data());
-    std::vector<double> out(n);
-    for (std::size_t i = 0; i < n && i < nfft_; ++i) out[i] = double(time_[i]) / double(nfft_);
-    return out;
+    std::copy_n(x.begin(), std::min(x.size(), time_.size()), time_.begin());
+    fft_.forward(time_, spec_);
+    for (std::size_t k = 0; k < spec_.size(); ++k)
+      spec_[k] *= std::polar(1.0f, float(-2.0 * std::numbers::pi * double(k) / double(fft_.size()) * d));
+    spec_.back() = spec_.back().real();  // the Nyquist bin of a real signal stays real
+    fft_.inverse(spec_, time_);
+    return {time_.begin(), time_.begin() + std::ptrdiff_t(std::min(n, time_.size()))};
   }
 
  private:
-  std::size_t nfft_;
-  kiss_fftr_cfg fwd_, inv_;
+  earshot::audio::RealFft fft_;
   std::vector<float> time_;
-  std::vector<kiss_fft_cpx> spec_;
+  std::vector<std::complex<float>> spec_;
 };
 
 // Small enough that no response reaches the renderer's output limiter
@@ -125,24 +111,6 @@ std::size_t pow2_at_least(std::size_t n) {
   std::size_t p = 1;
   while (p < n) p <<= 1;
   return p;
-}
-
-/// Right-ear arrival minus left-ear, in samples: the cross-correlation peak
-/// within +-max_lag, refined by a parabola.
-template <typename A, typename B>
-double lag_of(const A& l, const B& r, std::size_t n, long max_lag) {
-  const auto xc = [&](long lag) {
-    double acc = 0.0;
-    for (long i = std::max(0L, -lag); i < long(n) && i + lag < long(n); ++i)
-      acc += double(l[std::size_t(i)]) * double(r[std::size_t(i + lag)]);
-    return acc;
-  };
-  long best = -max_lag;
-  double peak = xc(best);
-  for (long lag = -max_lag + 1; lag <= max_lag; ++lag)
-    if (const double v = xc(lag); v > peak) peak = v, best = lag;
-  const double a = xc(best - 1), c = xc(best + 1), den = a - 2.0 * peak + c;
-  return double(best) + (den < 0.0 ? 0.5 * (a - c) / den : 0.0);
 }
 
 std::size_t heap_in_use() { return mallinfo2().uordblks + mallinfo2().hblkhd; }
@@ -197,7 +165,7 @@ Row measure(const Kind& kind, double rate, const fs::path& dir, const std::strin
   const int src = renderer.add_source(s);
   std::vector<float> l(cfg.block), r(cfg.block), out_l, out_r;
   const double far = 50.0;  // beyond every fixture's shells: no near-field path
-  std::vector<std::vector<double>> got_l(M), got_r(M);
+  std::vector<std::vector<float>> got_l(M), got_r(M);
   double cross = 0.0, own = 0.0;
   for (std::size_t m = 0; m < M; m += kind.stride) {
     const auto at = set->direction(m);
@@ -223,17 +191,14 @@ Row measure(const Kind& kind, double rate, const fs::path& dir, const std::strin
     got_r[m] = delay(out_r, shift, N);
     const float* e = want->DataIR.values + 2 * m * N;
     for (std::size_t i = 0; i < N; ++i) {
-      cross += got_l[m][i] * e[i] + got_r[m][i] * e[N + i];
-      own += got_l[m][i] * got_l[m][i] + got_r[m][i] * got_r[m][i];
+      cross += double(got_l[m][i]) * e[i] + double(got_r[m][i]) * e[N + i];
+      own += double(got_l[m][i]) * got_l[m][i] + double(got_r[m][i]) * got_r[m][i];
     }
     ++row.rendered;
-
   }
   const double level = cross / own;  // the one level the loader applies to the whole set (and kImpulse)
-  const auto max_lag = long(std::ceil(1.2e-3 * rate));
   for (std::size_t m = 0; m < M; m += kind.stride) {
     const float* e = want->DataIR.values + 2 * m * N;
-    double el = 0, er = 0, gl = 0, gr = 0;
     for (std::size_t ear = 0; ear < 2; ++ear) {
       const auto& g = ear == 0 ? got_l[m] : got_r[m];
       double diff = 0.0, ref = 0.0;
@@ -241,15 +206,13 @@ Row measure(const Kind& kind, double rate, const fs::path& dir, const std::strin
         const double x = e[ear * N + i];
         diff += (level * g[i] - x) * (level * g[i] - x);
         ref += x * x;
-        (ear == 0 ? el : er) += x * x;
-        (ear == 0 ? gl : gr) += g[i] * g[i];
       }
       if (const double db = 10.0 * std::log10(diff / ref); db > row.worst_db) row.worst_db = db, row.worst_m = m, row.worst_ear = ear;
     }
-    const double ild_err = std::abs(10.0 * std::log10(gl / gr) - 10.0 * std::log10(el / er));
-    row.worst_ild_db = std::max(row.worst_ild_db, ild_err);
-    const double itd_err = std::abs(lag_of(got_l[m], got_r[m], N, max_lag) - lag_of(e, e + N, N, max_lag)) / rate * 1e6;
-    row.worst_itd_us = std::max(row.worst_itd_us, itd_err);
+    // The cues by the project's analysis (tests/analysis): the same estimators for both pairs.
+    const std::span<const float> fl(e, N), fr(e + N, N);
+    row.worst_ild_db = std::max(row.worst_ild_db, std::abs(ild_db(got_l[m], got_r[m]) - ild_db(fl, fr)));
+    row.worst_itd_us = std::max(row.worst_itd_us, std::abs(itd_s(got_l[m], got_r[m], rate) - itd_s(fl, fr, rate)) * 1e6);
   }
   if (!dump.empty()) {  // the worst response: rendered (level fitted) and the file's, sample by sample
     const fs::path out = fs::path(dump) / (std::string(kind.name) + "_" + std::to_string(int(rate)) + ".csv");

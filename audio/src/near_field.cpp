@@ -1,5 +1,7 @@
 #include "earshot/audio/near_field.hpp"
 
+#include "earshot/audio/real_fft.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -17,52 +19,68 @@ constexpr std::size_t kFft = 512;    // design grid: the FIR's magnitude is samp
 constexpr std::size_t kFade = 16;    // taps faded out at the FIR's end (half a Hann window)
 constexpr double kAngleStep = kPi / static_cast<double>(NearFieldTable::kAngles - 1);
 
-/// In-place radix-2 FFT of kFft points (sign -1 forward, +1 inverse,
-/// unscaled). Design time only.
-void fft(std::vector<std::complex<double>>& x, int sign) {
-  static const std::vector<std::complex<double>> twiddle = [] {  // e^{-2 pi i k / kFft}
-    std::vector<std::complex<double>> t(kFft / 2);
-    for (std::size_t k = 0; k < t.size(); ++k) t[k] = std::polar(1.0, -2.0 * kPi * static_cast<double>(k) / kFft);
-    return t;
-  }();
-  const std::size_t n = x.size();
-  for (std::size_t i = 1, j = 0; i < n; ++i) {
-    std::size_t bit = n >> 1;
-    for (; j & bit; bit >>= 1) j ^= bit;
-    j |= bit;
-    if (i < j) std::swap(x[i], x[j]);
-  }
-  for (std::size_t len = 2; len <= n; len <<= 1) {
-    const std::size_t step = kFft / len;
-    for (std::size_t i = 0; i < n; i += len)
-      for (std::size_t k = 0; k < len / 2; ++k) {
-        const std::complex<double> w = sign < 0 ? twiddle[k * step] : std::conj(twiddle[k * step]);
-        const auto u = x[i + k], v = x[i + k + len / 2] * w;
-        x[i + k] = u + v;
-        x[i + k + len / 2] = u - v;
-      }
-  }
-}
-
 /// The minimum-phase FIR (first `out.size()` taps, end faded) with the
-/// magnitude whose natural logarithm is `log_mag` on bins 0..kFft/2
-/// (the real cepstrum folded onto positive quefrencies).
-void minimum_phase(const std::vector<double>& log_mag, std::span<float> out) {
-  std::vector<std::complex<double>> x(kFft);
-  for (std::size_t k = 0; k <= kFft / 2; ++k) x[k] = log_mag[k];
-  for (std::size_t k = kFft / 2 + 1; k < kFft; ++k) x[k] = log_mag[kFft - k];
-  fft(x, +1);
-  for (auto& v : x) v = v.real() / static_cast<double>(kFft);
-  for (std::size_t n = 1; n < kFft / 2; ++n) x[n] *= 2.0;
-  for (std::size_t n = kFft / 2 + 1; n < kFft; ++n) x[n] = 0.0;
-  fft(x, -1);
-  for (auto& v : x) v = std::exp(v);
-  fft(x, +1);
+/// magnitude whose natural logarithm is `log_mag` on bins 0..kFft/2: the
+/// real cepstrum folded onto positive quefrencies, exponentiated. `fft` is a
+/// kFft-point real FFT and `spectrum` / `time` its scratch (design time only,
+/// float: the taps are float and the log magnitudes span a few nepers).
+void minimum_phase(std::span<const double> log_mag, const RealFft& fft, std::vector<std::complex<float>>& spectrum,
+                   std::vector<float>& time, std::span<float> out) {
+  for (std::size_t k = 0; k <= kFft / 2; ++k) spectrum[k] = {static_cast<float>(log_mag[k]), 0.0f};
+  fft.inverse(spectrum, time);  // the real cepstrum (even, so real)
+  for (std::size_t n = 1; n < kFft / 2; ++n) time[n] *= 2.0f;
+  std::fill(time.begin() + kFft / 2 + 1, time.end(), 0.0f);
+  fft.forward(time, spectrum);
+  for (auto& v : spectrum) v = std::exp(v);
+  fft.inverse(spectrum, time);
   const std::size_t T = out.size();
   for (std::size_t n = 0; n < T; ++n) {
     double w = 1.0;
     if (n + kFade >= T) w = 0.5 * (1.0 + std::cos(kPi * static_cast<double>(n + kFade + 1 - T) / (kFade + 1)));
-    out[n] = static_cast<float>(x[n].real() / static_cast<double>(kFft) * w);
+    out[n] = static_cast<float>(static_cast<double>(time[n]) * w);
+  }
+}
+
+/// A series' coefficients split into real and imaginary parts, so that
+/// summing it against stored Legendre values is two plain dot products.
+struct PlanarSeries {
+  std::vector<double> re, im;
+  explicit PlanarSeries(const hrtf::RigidSphereSeries& s) {
+    for (const auto& c : s.coefficients()) {
+      re.push_back(c.real());
+      im.push_back(c.imag());
+    }
+  }
+  /// |sum_m c_m p[m]|^2; `p` holds at least as many Legendre values as terms.
+  [[nodiscard]] double power(const double* p) const {
+    // Four partial sums: the loop pipelines (and vectorises) without
+    // reassociation flags; the order differs from a single sum by rounding only.
+    double r[4] = {0, 0, 0, 0}, i[4] = {0, 0, 0, 0};
+    const std::size_t n = re.size(), n4 = n & ~std::size_t{3};
+    for (std::size_t m = 0; m < n4; m += 4)
+      for (std::size_t j = 0; j < 4; ++j) {
+        r[j] += re[m + j] * p[m + j];
+        i[j] += im[m + j] * p[m + j];
+      }
+    for (std::size_t m = n4; m < n; ++m) {
+      r[0] += re[m] * p[m];
+      i[0] += im[m] * p[m];
+    }
+    const double re_sum = (r[0] + r[1]) + (r[2] + r[3]), im_sum = (i[0] + i[1]) + (i[2] + i[3]);
+    return re_sum * re_sum + im_sum * im_sum;
+  }
+};
+
+/// P_0 .. P_{out.size() - 1} at cos(theta), by the upward recurrence.
+void legendre(double theta, std::span<double> out) {
+  const double x = std::cos(theta);
+  double p_prev = 0.0, p = 1.0;
+  for (std::size_t m = 0; m < out.size(); ++m) {
+    out[m] = p;
+    const double md = static_cast<double>(m);
+    const double next = ((2.0 * md + 1.0) * x * p - md * p_prev) / (md + 1.0);
+    p_prev = p;
+    p = next;
   }
 }
 
@@ -109,7 +127,7 @@ NearFieldTable::NearFieldTable(double sample_rate, std::span<const double> shell
   std::vector<double> freqs{0.0};
   for (std::size_t k = 0; k < kEval; ++k)
     freqs.push_back(kLowest * std::pow(0.5 * rate_ / kLowest, static_cast<double>(k) / (kEval - 1)));
-  std::vector<double> log_ratio(kDistances * kAngles * freqs.size());  // [distance][angle][frequency]
+  std::vector<double> log_ratio(freqs.size());  // one grid point's, by frequency
   std::vector<double> log_mag(kFft / 2 + 1);
   // Design bin b lies between evaluated frequencies bin_from[b] and the next,
   // a fraction bin_t[b] of the way (linear in f below the lowest, else in log f).
@@ -122,31 +140,49 @@ NearFieldTable::NearFieldTable(double sample_rate, std::span<const double> shell
     bin_t[b] = k == 1 ? std::min(1.0, f / freqs[1])
                       : std::clamp(std::log(f / freqs[k - 1]) / std::log(freqs[k] / freqs[k - 1]), 0.0, 1.0);
   }
-  std::vector<double> radii(kDistances), theta_p(kDistances * kAngles);
+  std::vector<double> radii(kDistances);
   for (std::size_t d = 0; d < kDistances; ++d)
     radii[d] = 1.0 / (inv_near_ + (inv_far_ - inv_near_) * static_cast<double>(d) / (kDistances - 1));
+  // The sources' series (every distance and frequency) serve every shell;
+  // the Legendre values at the grid's angles serve every series. Near the
+  // head a series needs a few hundred terms, so this is where the time goes.
+  std::vector<PlanarSeries> at_source;  // [distance][frequency]
+  std::size_t terms = 0;
+  for (std::size_t d = 0; d < kDistances; ++d)
+    for (const double f : freqs) {
+      at_source.emplace_back(hrtf::RigidSphereSeries(radii[d], f, head));
+      terms = std::max(terms, at_source.back().re.size());
+    }
+  std::vector<double> p_source(kAngles * terms);  // [angle][m]
+  for (std::size_t a = 0; a < kAngles; ++a)
+    legendre(static_cast<double>(a) * kAngleStep, std::span<double>(p_source.data() + a * terms, terms));
+  std::vector<double> p_shell;
+  const RealFft fft(kFft);
+  std::vector<std::complex<float>> spectrum(kFft / 2 + 1);
+  std::vector<float> time(kFft);
   for (std::size_t s = 0; s < shells_.size(); ++s) {
     const double R = std::max(shells_[s], r_min_);
-    for (std::size_t d = 0; d < kDistances; ++d)
-      for (std::size_t a = 0; a < kAngles; ++a)
-        theta_p[d * kAngles + a] = parallax_angle(head.radius_m, radii[d], static_cast<double>(a) * kAngleStep, R);
-    for (std::size_t k = 0; k < freqs.size(); ++k) {
-      const hrtf::RigidSphereSeries at_shell(R, freqs[k], head);
-      for (std::size_t d = 0; d < kDistances; ++d) {
-        const hrtf::RigidSphereSeries at_source(radii[d], freqs[k], head);
-        for (std::size_t a = 0; a < kAngles; ++a) {
-          const double num = std::abs(at_source.at(static_cast<double>(a) * kAngleStep));
-          const double den = std::abs(at_shell.at(theta_p[d * kAngles + a]));
-          log_ratio[(d * kAngles + a) * freqs.size() + k] = std::log(std::max(num, 1e-6) / std::max(den, 1e-6));
-        }
-      }
+    std::vector<PlanarSeries> at_shell;  // [frequency]
+    std::size_t shell_terms = 0;
+    for (const double f : freqs) {
+      at_shell.emplace_back(hrtf::RigidSphereSeries(R, f, head));
+      shell_terms = std::max(shell_terms, at_shell.back().re.size());
     }
+    p_shell.resize(shell_terms);
     for (std::size_t d = 0; d < kDistances; ++d)
       for (std::size_t a = 0; a < kAngles; ++a) {
-        const double* lr = log_ratio.data() + (d * kAngles + a) * freqs.size();
+        // The shell's response is read where the ear's ray meets it.
+        legendre(parallax_angle(head.radius_m, radii[d], static_cast<double>(a) * kAngleStep, R), p_shell);
+        double* lr = log_ratio.data();
+        for (std::size_t k = 0; k < freqs.size(); ++k) {
+          const double num = at_source[d * freqs.size() + k].power(p_source.data() + a * terms);
+          const double den = at_shell[k].power(p_shell.data());
+          lr[k] = 0.5 * std::log(std::max(num, 1e-12) / std::max(den, 1e-12));
+        }
         for (std::size_t b = 0; b <= kFft / 2; ++b)
           log_mag[b] = lr[bin_from[b]] + (lr[bin_from[b] + 1] - lr[bin_from[b]]) * bin_t[b];
-        minimum_phase(log_mag, std::span<float>(taps_.data() + ((s * kDistances + d) * kAngles + a) * kTaps, kTaps));
+        minimum_phase(log_mag, fft, spectrum, time,
+                      std::span<float>(taps_.data() + ((s * kDistances + d) * kAngles + a) * kTaps, kTaps));
       }
   }
 }

@@ -53,6 +53,10 @@ class RigidSphereSeries {
   [[nodiscard]] std::complex<double> at(double theta) const;
   /// Terms kept (for tests of the stopping rule).
   [[nodiscard]] std::size_t terms() const { return c_.size(); }
+  /// The coefficients c_m (prefactor included): H(theta) is
+  /// sum_m c_m P_m(cos theta), for callers that sum many series at the same
+  /// angles and keep the Legendre values.
+  [[nodiscard]] const std::vector<std::complex<double>>& coefficients() const { return c_; }
 
  private:
   std::vector<std::complex<double>> c_;  // the coefficients, prefactor included

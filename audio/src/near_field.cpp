@@ -46,9 +46,17 @@ void minimum_phase(std::span<const double> log_mag, const RealFft& fft, std::vec
 struct PlanarSeries {
   std::vector<double> re, im;
   explicit PlanarSeries(const hrtf::RigidSphereSeries& s) {
-    for (const auto& c : s.coefficients()) {
-      re.push_back(c.real());
-      im.push_back(c.imag());
+    // The series converges past m ~ mu and |P_m| <= 1, so the terms after
+    // the last coefficient above 1e-10 of the largest change the sum by far
+    // less than a float tap resolves (near the head they are half the terms).
+    const auto& c = s.coefficients();
+    double largest = 0.0;
+    for (const auto& v : c) largest = std::max(largest, std::abs(v));
+    std::size_t n = c.size();
+    while (n > 1 && std::abs(c[n - 1]) < 1e-10 * largest) --n;
+    for (std::size_t m = 0; m < n; ++m) {
+      re.push_back(c[m].real());
+      im.push_back(c[m].imag());
     }
   }
   /// |sum_m c_m p[m]|^2; `p` holds at least as many Legendre values as terms.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 
 #include "dot.hpp"
@@ -29,7 +30,26 @@ IrResampler::IrResampler(double from_hz, double to_hz, std::size_t in_length) : 
   weights_.assign(out_length * taps_, 0.0f);
   std::vector<double> w(taps_);
   const KaiserSinc kernel(s * half, kBeta);
+  // With integer rates the output's place between input samples repeats
+  // every `period` outputs (to / gcd of them), `advance` (from / gcd) input
+  // samples later: 160 outputs for 44.1 -> 48 kHz. Each repeat takes the
+  // first period's kernel (the window's Bessel functions are most of the
+  // set's resampling time otherwise); other rates compute every kernel.
+  std::size_t period = out_length, advance = 0;
+  const bool whole = from_hz < 1e9 && to_hz < 1e9 && std::floor(from_hz) == from_hz && std::floor(to_hz) == to_hz;
+  if (whole) {
+    const auto from_i = static_cast<std::uint64_t>(from_hz), to_i = static_cast<std::uint64_t>(to_hz);
+    const std::uint64_t g = std::gcd(from_i, to_i);
+    period = static_cast<std::size_t>(to_i / g);
+    advance = static_cast<std::size_t>(from_i / g);
+  }
   for (std::size_t n = 0; n < out_length; ++n) {
+    if (n >= period) {
+      first_[n] = first_[n - period] + static_cast<std::int64_t>(advance);
+      std::copy_n(weights_.begin() + static_cast<std::ptrdiff_t>((n - period) * taps_), taps_,
+                  weights_.begin() + static_cast<std::ptrdiff_t>(n * taps_));
+      continue;
+    }
     const double t = static_cast<double>(n) * step;  // where output n sits on the input's time axis
     const auto k0 = static_cast<std::int64_t>(std::floor(t)) - static_cast<std::int64_t>(taps_ / 2) + 1;
     first_[n] = k0;

@@ -10,6 +10,7 @@ packages=(
   libcli11-dev           # command-line parser of the earshot tool
   nlohmann-json3-dev     # Model / Scene JSON
   libmysofa-dev libmysofa1   # SOFA HRTF files; ships the MIT KEMAR default set
+  libxxhash-dev          # XXH3 hashes: the disk cache of prepared HRTF sets (key and checksum), header only
   libavutil-dev          # FFmpeg's av_tx: the renderer's SIMD FFTs (LGPL, dynamically linked)
   libkissfft-dev         # FFT for sizes av_tx has no fast code for (analysis), click-test analysis
   libsndfile1-dev        # WAV/FLAC/OGG reading and writing

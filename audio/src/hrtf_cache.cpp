@@ -8,17 +8,35 @@
 namespace earshot::audio {
 namespace {
 
-PreparedHrtf prepare(const std::filesystem::path& sofa, double rate, std::size_t block,
-                     std::optional<double> radius) {
-  auto set = hrtf::HrtfSet::load(sofa, rate);
+PreparedHrtf share(hrtf::HrtfSet set, HrtfSpectra spectra, std::optional<double> radius) {
   if (radius) set.set_parametric_itd(*radius);
-  PreparedHrtf p;
-  p.set = std::make_shared<const hrtf::HrtfSet>(std::move(set));
-  p.spectra = std::make_shared<const HrtfSpectra>(*p.set, block);
-  return p;
+  return {std::make_shared<const hrtf::HrtfSet>(std::move(set)), std::make_shared<const HrtfSpectra>(std::move(spectra))};
 }
 
 }  // namespace
+
+HrtfCache::HrtfCache() : disk_(HrtfDiskCache::directory_from_environment()) {}
+
+HrtfCache::HrtfCache(std::optional<std::filesystem::path> disk_dir, HrtfDiskCache::Notes notes)
+    : disk_(std::move(disk_dir), std::move(notes)) {}
+
+PreparedHrtf HrtfCache::build(const std::filesystem::path& sofa, double rate, std::size_t block,
+                              std::optional<double> radius, bool& from_disk) {
+  from_disk = false;
+  std::optional<HrtfDiskCache::Key> key;
+  if (disk_.directory()) key = HrtfDiskCache::key_of(sofa, rate, block);
+  if (key)
+    if (std::optional<HrtfDiskCache::Loaded> l = disk_.load(*key)) {
+      from_disk = true;
+      return share(std::move(l->set), std::move(l->spectra), radius);
+    }
+  hrtf::HrtfSet set = hrtf::HrtfSet::load(sofa, rate);
+  HrtfSpectra spectra(set, block);
+  // Written only if the file is still what was hashed (not replaced while
+  // it was being read).
+  if (key && HrtfDiskCache::key_of(sofa, rate, block) == key) disk_.store(*key, set, spectra);
+  return share(std::move(set), std::move(spectra), radius);
+}
 
 HrtfCache& HrtfCache::shared() {
   static HrtfCache cache;
@@ -46,7 +64,8 @@ PreparedHrtf HrtfCache::get(const std::filesystem::path& sofa, double sample_rat
     key = key_of(sofa, sample_rate, block, parametric_radius_m);
   } catch (const std::filesystem::filesystem_error&) {
     // Missing or unreadable: HrtfSet::load says so, naming the file.
-    return prepare(sofa, sample_rate, block, parametric_radius_m);
+    bool from_disk = false;
+    return build(sofa, sample_rate, block, parametric_radius_m, from_disk);
   }
 
   std::promise<PreparedHrtf> promise;
@@ -74,8 +93,9 @@ PreparedHrtf HrtfCache::get(const std::filesystem::path& sofa, double sample_rat
   }
 
   PreparedHrtf p;
+  bool from_disk = false;
   try {
-    p = prepare(sofa, sample_rate, block, parametric_radius_m);
+    p = build(sofa, sample_rate, block, parametric_radius_m, from_disk);
   } catch (...) {
     {
       std::lock_guard lock(mutex_);
@@ -91,6 +111,7 @@ PreparedHrtf HrtfCache::get(const std::filesystem::path& sofa, double sample_rat
     e.set = p.set;
     e.spectra = p.spectra;
     ++preparations_;
+    if (from_disk) ++disk_loads_;
     keep(p);
   }
   promise.set_value(p);
@@ -106,6 +127,11 @@ void HrtfCache::keep(const PreparedHrtf& p) {
 std::uint64_t HrtfCache::preparations() const {
   std::lock_guard lock(mutex_);
   return preparations_;
+}
+
+std::uint64_t HrtfCache::disk_loads() const {
+  std::lock_guard lock(mutex_);
+  return disk_loads_;
 }
 
 void HrtfCache::clear() {

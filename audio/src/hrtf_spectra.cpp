@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "earshot/audio/real_fft.hpp"
 #include "earshot/audio/spectral_kernels.hpp"
@@ -50,6 +51,29 @@ HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block)
           quantise(planar, scale_[lane * (parts_ - 1) + p - 1], tail_.data() + (lane * (parts_ - 1) + p - 1) * P);
       }
     }
+}
+
+HrtfSpectra::HrtfSpectra(const hrtf::HrtfSet& set, Stored s)
+    : block_(s.block),
+      parts_(std::max<std::size_t>(1, s.block ? (set.filter_length() + s.block - 1) / s.block : 1)),
+      measurements_(set.all_measurement_count()) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("stored HRTF spectra: " + what); };
+  if (block_ == 0 || block_ > kMaxStoredBlock) fail("block " + std::to_string(block_));
+  const std::size_t P = 2 * stride(), M = measurements_;
+  if (s.head.size() != M * 2 * P || s.tail.size() != M * 2 * (parts_ - 1) * P || s.scale.size() != M * 2 * (parts_ - 1))
+    fail("sizes do not fit " + std::to_string(M) + " measurements, block " + std::to_string(block_) + " and " +
+         std::to_string(parts_) + " partitions");
+  for (const float v : s.head)
+    if (!std::isfinite(v)) fail("a head value is not finite");
+  for (const float v : s.scale)
+    if (!std::isfinite(v)) fail("a tail scale is not finite");
+  head_ = std::move(s.head);
+  tail_ = std::move(s.tail);
+  scale_ = std::move(s.scale);
+}
+
+HrtfSpectra::Stored HrtfSpectra::stored() const {
+  return {block_, head_, tail_, scale_};
 }
 
 std::span<const float> HrtfSpectra::head(std::size_t m, hrtf::Ear ear) const {

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 
@@ -402,6 +403,75 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
   }
   set.shells_ = std::move(shells);
+  return set;
+}
+
+HrtfSet::Stored HrtfSet::stored() const {
+  Stored s;
+  s.rate = rate_;
+  s.filter_length = length_;
+  s.hrir_length = hrir_length_;
+  s.removed_delay_s = removed_delay_s_;
+  s.directions = dirs_;
+  s.filters = filters_;
+  s.hrirs = hrirs_;
+  s.delays = delays_;
+  s.energies = energies_;
+  for (const ShellData& sh : shells_) s.shells.push_back({sh.info, sh.triangulation->stored(), sh.gram});
+  return s;
+}
+
+HrtfSet HrtfSet::from_stored(Stored s) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("stored HRTF set: " + what); };
+  const auto finite = [](double x) { return std::isfinite(x); };
+  if (!(s.rate >= 8000.0 && s.rate <= 192000.0)) fail("sample rate " + std::to_string(s.rate) + " out of range");
+  const std::size_t M = s.directions.size();
+  if (M < 4 || M > kMaxMeasurements) fail(std::to_string(M) + " measurements");
+  // Each bound before the product that uses it, so nothing overflows.
+  if (s.filter_length == 0 || s.filter_length > kMaxSamples || s.hrir_length == 0 || s.hrir_length > s.filter_length)
+    fail("filter length " + std::to_string(s.filter_length) + ", response length " + std::to_string(s.hrir_length));
+  if (s.filters.size() != 2 * M * s.filter_length) fail("filters: " + std::to_string(s.filters.size()) + " samples");
+  if (s.hrirs.size() != 2 * M * s.hrir_length) fail("responses: " + std::to_string(s.hrirs.size()) + " samples");
+  if (s.delays.size() != M || s.energies.size() != M) fail("delays or energies not one per measurement");
+  if (!finite(s.removed_delay_s)) fail("removed delay not finite");
+  for (const Direction& d : s.directions)
+    if (!finite(d.azimuth) || !finite(d.elevation)) fail("a direction is not finite");
+  for (const Delays& d : s.delays)
+    if (!finite(d.left_s) || !finite(d.right_s) || d.left_s < 0.0 || d.right_s < 0.0) fail("a delay is negative or not finite");
+  for (const auto& e : s.energies)
+    if (!(e[0] > 0.0 && finite(e[0]) && e[1] > 0.0 && finite(e[1]))) fail("an energy is not positive and finite");
+  if (s.shells.empty()) fail("no shells");
+  HrtfSet set;
+  std::size_t next = 0;
+  for (StoredShell& sh : s.shells) {
+    if (sh.info.first != next || sh.info.count < 4 || sh.info.count > M - next)
+      fail("the shells do not tile the measurements (shell at " + std::to_string(sh.info.first) + ")");
+    next += sh.info.count;
+    if (!(sh.info.radius_m > 0.0) || !finite(sh.info.radius_m)) fail("a shell's distance is not positive and finite");
+    ShellData data;
+    data.info = sh.info;
+    data.triangulation = std::make_shared<const SphereTriangulation>(
+        SphereTriangulation::from_stored(std::move(sh.triangulation), sh.info.count));
+    if (sh.gram.size() != data.triangulation->triangle_count()) fail("a Gram table is not one per triangle");
+    for (const auto& t : sh.gram)
+      for (const auto& ear : t)
+        for (const double g : ear)
+          if (!finite(g)) fail("a Gram table entry is not finite");
+    data.gram = std::move(sh.gram);
+    set.shells_.push_back(std::move(data));
+  }
+  if (next != M) fail("the shells hold " + std::to_string(next) + " of " + std::to_string(M) + " measurements");
+  set.rate_ = s.rate;
+  set.length_ = s.filter_length;
+  set.hrir_length_ = s.hrir_length;
+  set.removed_delay_s_ = s.removed_delay_s;
+  set.dirs_ = std::move(s.directions);
+  set.filters_ = std::move(s.filters);
+  set.hrirs_ = std::move(s.hrirs);
+  set.delays_ = std::move(s.delays);
+  set.energies_ = std::move(s.energies);
+  set.log_energies_.reserve(M);
+  for (const auto& e : set.energies_) set.log_energies_.push_back({std::log(e[0]), std::log(e[1])});
   return set;
 }
 

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <utility>
 
 namespace earshot::hrtf {
@@ -220,6 +222,44 @@ SphereTriangulation::SphereTriangulation(std::span<const Vec3> dirs) {
     cell_tris_.insert(cell_tris_.end(), l.begin(), l.end());
     cell_start_.push_back(static_cast<std::uint32_t>(cell_tris_.size()));
   }
+}
+
+SphereTriangulation::Stored SphereTriangulation::stored() const {
+  Stored s;
+  s.vertices.reserve(tris_.size());
+  s.inverses.reserve(tris_.size());
+  for (const Triangle& t : tris_) {
+    s.vertices.push_back(t.v);
+    s.inverses.push_back(t.inv);
+  }
+  s.cell_start = cell_start_;
+  s.cell_triangles = cell_tris_;
+  return s;
+}
+
+SphereTriangulation SphereTriangulation::from_stored(Stored s, std::size_t points) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("stored triangulation: " + what); };
+  if (s.vertices.empty() || s.vertices.size() != s.inverses.size())
+    fail("the triangles' vertices and inverses differ in number (or there are none)");
+  if (s.vertices.size() > std::numeric_limits<std::uint32_t>::max()) fail("too many triangles");
+  for (const auto& v : s.vertices)
+    for (const std::uint32_t i : v)
+      if (i >= points) fail("a triangle names direction " + std::to_string(i) + " of " + std::to_string(points));
+  for (const auto& inv : s.inverses)
+    for (const double x : inv)
+      if (!std::isfinite(x)) fail("a triangle's inverse is not finite");
+  if (s.cell_start.size() != kCells + 1 || s.cell_start.front() != 0 || s.cell_start.back() != s.cell_triangles.size())
+    fail("the grid's cell starts do not span its candidate list");
+  for (std::size_t c = 0; c < kCells; ++c)
+    if (s.cell_start[c] > s.cell_start[c + 1]) fail("the grid's cell starts decrease");
+  for (const std::uint32_t t : s.cell_triangles)
+    if (t >= s.vertices.size()) fail("a grid cell names triangle " + std::to_string(t));
+  SphereTriangulation out;
+  out.tris_.reserve(s.vertices.size());
+  for (std::size_t t = 0; t < s.vertices.size(); ++t) out.tris_.push_back({s.vertices[t], s.inverses[t]});
+  out.cell_start_ = std::move(s.cell_start);
+  out.cell_tris_ = std::move(s.cell_triangles);
+  return out;
 }
 
 bool SphereTriangulation::weights(const Triangle& t, const Vec3& d, std::array<double, 3>& w) const {

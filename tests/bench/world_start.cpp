@@ -3,17 +3,22 @@
 // plugin host pays it), beside OpenAL Soft's context creation with HRTF on
 // its loopback device in the same run. Prints markdown for docs/BENCHMARKS.md.
 //
-//   world_start [--later N] [--worlds 8] [--blocks 2000] [--sources 16]
+//   world_start [--later N] [--worlds 8] [--blocks 2000] [--sources 16] [--first-runs 5]
 //
 // Rows:
-//  - the first world of the process (reads and prepares the default SOFA set)
-//    and the median of N later ones (each destroyed before the next), wall
-//    and CPU milliseconds;
+//  - the first world of a process (the default SOFA set), each the median
+//    of R fresh processes (this program run again with --first-world): with
+//    the disk cache off, empty (prepares the set and writes the file) and
+//    filled (reads the file); then the median of N later worlds in this
+//    process (each destroyed before the next), wall and CPU milliseconds;
+//    the cache file's size and what hashing the SOFA file costs;
 //  - OpenAL Soft: the first and later contexts with HRTF (48 kHz loopback);
 //  - W worlds rendering S moving sources each on W threads at once against
 //    one world rendering alone: CPU per block per world.
 // Timing only: nothing here asserts, the test registered for it is a smoke run.
+#include <stdlib.h>
 #include <time.h>
+#include <unistd.h>
 
 #include <AL/al.h>
 #include <AL/alc.h>
@@ -30,6 +35,12 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#define XXH_INLINE_ALL
+#include <xxhash.h>
+
+#include <filesystem>
+#include <fstream>
 
 #include "earshot/earshot.h"
 
@@ -160,19 +171,93 @@ int arg_int(int argc, char** argv, const char* name, int fallback) {
   return fallback;
 }
 
+// ---- the first world of a process, by disk cache ----
+
+/// Runs this program again with --first-world and EARSHOT_CACHE_DIR=`cache`:
+/// the cost of that process's first world.
+Cost first_world_in_new_process(const std::string& cache) {
+  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string cmd = "EARSHOT_CACHE_DIR='" + cache + "' '" + self + "' --first-world";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) throw std::runtime_error("cannot run " + cmd);
+  Cost c;
+  const int got = std::fscanf(p, "%lf %lf", &c.wall_ms, &c.cpu_ms);
+  if (pclose(p) != 0 || got != 2) throw std::runtime_error("the child process failed: " + cmd);
+  return c;
+}
+
+std::uintmax_t cache_bytes(const std::filesystem::path& dir) {
+  std::uintmax_t n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    if (e.path().extension() == ".hrtf") n += e.file_size();
+  return n;
+}
+
+/// Reading and hashing the default SOFA file as the disk cache's key does
+/// (XXH3-128), median of 20, milliseconds.
+double hash_ms() {
+  std::vector<double> ms;
+  volatile std::uint64_t sink = 0;
+  for (int i = 0; i < 20; ++i) {
+    const double t0 = now_s(CLOCK_MONOTONIC);
+    std::ifstream in("/usr/share/libmysofa/MIT_KEMAR_normal_pinna.sofa", std::ios::binary | std::ios::ate);
+    std::vector<char> bytes(static_cast<std::size_t>(in.tellg()));
+    in.seekg(0);
+    in.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    sink = sink + XXH3_128bits(bytes.data(), bytes.size()).low64;
+    ms.push_back(1e3 * (now_s(CLOCK_MONOTONIC) - t0));
+  }
+  std::sort(ms.begin(), ms.end());
+  return ms[ms.size() / 2];
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
+  if (argc == 2 && std::strcmp(argv[1], "--first-world") == 0) {
+    ESworld w = 0;
+    const Cost c = measure([&] { w = create_world(); });
+    esDestroyWorld(w);
+    std::printf("%.3f %.3f\n", c.wall_ms, c.cpu_ms);
+    return 0;
+  }
   const int later = std::max(1, arg_int(argc, argv, "--later", 20));
   const int worlds = std::max(1, arg_int(argc, argv, "--worlds", 8));
   const int blocks = std::max(1, arg_int(argc, argv, "--blocks", 2000));
   const int sources = std::max(1, arg_int(argc, argv, "--sources", 16));
+  const int first_runs = std::max(1, arg_int(argc, argv, "--first-runs", 5));
+
+  // The disk cache lives in a fresh temporary directory (never the user's):
+  // emptied before each "empty" run, left filled for the "filled" ones.
+  std::string tmpl = (std::filesystem::temp_directory_path() / "earshot_world_start_XXXXXX").string();
+  if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot make a temporary directory");
+  const std::filesystem::path cache_dir = tmpl;
+  std::vector<Cost> off, empty, filled;
+  for (int i = 0; i < first_runs; ++i) {
+    off.push_back(first_world_in_new_process("off"));
+    std::filesystem::remove_all(cache_dir);
+    std::filesystem::create_directories(cache_dir);
+    empty.push_back(first_world_in_new_process(cache_dir.string()));
+    filled.push_back(first_world_in_new_process(cache_dir.string()));
+  }
+  const std::uintmax_t file_bytes = cache_bytes(cache_dir);
+  std::filesystem::remove_all(cache_dir);
+  // This process's own worlds: no disk cache (the later ones share memory).
+  setenv("EARSHOT_CACHE_DIR", "off", 1);
 
   std::printf("| | wall ms | CPU ms |\n|---|---:|---:|\n");
+  const auto row = [&](const char* what, const std::vector<Cost>& cs) {
+    const Cost m = median(cs);
+    std::printf("| Earshot: first world, %s (median of %d processes) | %.1f | %.1f |\n", what, first_runs, m.wall_ms,
+                m.cpu_ms);
+  };
+  row("disk cache off", off);
+  row("disk cache empty (prepares, writes the file)", empty);
+  row("disk cache filled (reads the file)", filled);
   ESworld first = 0;
   const Cost c_first = measure([&] { first = create_world(); });
   esDestroyWorld(first);
-  std::printf("| Earshot: first world | %.1f | %.1f |\n", c_first.wall_ms, c_first.cpu_ms);
+  std::printf("| Earshot: first world of this process, cache off | %.1f | %.1f |\n", c_first.wall_ms, c_first.cpu_ms);
   std::vector<Cost> cs;
   for (int i = 0; i < later; ++i) {
     ESworld w = 0;
@@ -189,6 +274,10 @@ int main(int argc, char** argv) try {
   const Cost a_later = median(as);
   std::printf("| OpenAL Soft: first context with HRTF | %.1f | %.1f |\n", a_first.wall_ms, a_first.cpu_ms);
   std::printf("| OpenAL Soft: later context (median of %d) | %.2f | %.2f |\n", later, a_later.wall_ms, a_later.cpu_ms);
+
+  std::printf("\nDisk cache file of the default set (48 kHz, 128-frame blocks): %.2f MB; reading and hashing the "
+              "SOFA file for its key (XXH3-128): %.2f ms (median of 20).\n",
+              static_cast<double>(file_bytes) / 1e6, hash_ms());
 
   const double one = per_block_us(1, sources, blocks);
   const double many = per_block_us(worlds, sources, blocks);

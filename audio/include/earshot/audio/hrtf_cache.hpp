@@ -19,6 +19,10 @@
 // that fails to load is not remembered: the next call reads it again (and
 // throws the same InputError while it is still bad).
 //
+// Behind the memory, a disk cache (hrtf_disk_cache.hpp): a set not in memory
+// is read from there when a valid file holds it, else prepared from the SOFA
+// file and written there for the next process.
+//
 // The process-wide instance (`shared()`) is the one piece of global state in
 // the libraries, and only a cache: results are the same with or without it.
 #pragma once
@@ -34,6 +38,7 @@
 #include <string>
 #include <tuple>
 
+#include "earshot/audio/hrtf_disk_cache.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
@@ -50,7 +55,12 @@ class HrtfCache {
   /// How many of the most recently used sets stay alive with no user.
   static constexpr std::size_t kKeep = 4;
 
-  HrtfCache() = default;
+  /// With the disk cache the environment names
+  /// (HrtfDiskCache::directory_from_environment()).
+  HrtfCache();
+  /// With the disk cache in `disk_dir` (nullopt: none); `notes` as
+  /// HrtfDiskCache's.
+  explicit HrtfCache(std::optional<std::filesystem::path> disk_dir, HrtfDiskCache::Notes notes = {});
   HrtfCache(const HrtfCache&) = delete;
   HrtfCache& operator=(const HrtfCache&) = delete;
 
@@ -60,9 +70,12 @@ class HrtfCache {
   [[nodiscard]] PreparedHrtf get(const std::filesystem::path& sofa, double sample_rate, std::size_t block,
                                  std::optional<double> parametric_radius_m = std::nullopt);
 
-  /// Preparations done (not taken from the cache) so far: for tests and
-  /// benchmarks.
+  /// Sets built for callers so far (not found in memory): prepared from
+  /// their files or read from the disk cache. For tests and benchmarks.
   [[nodiscard]] std::uint64_t preparations() const;
+  /// Of those, the ones read from the disk cache.
+  [[nodiscard]] std::uint64_t disk_loads() const;
+  [[nodiscard]] const HrtfDiskCache& disk() const { return disk_; }
 
   /// Forgets everything (users keep what they hold).
   void clear();
@@ -89,11 +102,17 @@ class HrtfCache {
   [[nodiscard]] static Key key_of(const std::filesystem::path& sofa, double rate, std::size_t block,
                                   std::optional<double> radius);
   void keep(const PreparedHrtf& p);
+  /// From the disk cache, else prepared (and written there); `from_disk`
+  /// says which.
+  PreparedHrtf build(const std::filesystem::path& sofa, double rate, std::size_t block, std::optional<double> radius,
+                     bool& from_disk);
 
   mutable std::mutex mutex_;
   std::map<Key, Entry> entries_;
   std::deque<PreparedHrtf> kept_;  // the last kKeep used, newest first
   std::uint64_t preparations_ = 0;
+  std::uint64_t disk_loads_ = 0;
+  HrtfDiskCache disk_;  // its calls are made outside mutex_: it takes care of itself
 };
 
 }  // namespace earshot::audio

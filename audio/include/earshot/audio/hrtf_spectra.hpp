@@ -29,6 +29,25 @@ class HrtfSpectra {
  public:
   HrtfSpectra(const hrtf::HrtfSet& set, std::size_t block);
 
+  /// The version of what the constructor computes: bump it with any change
+  /// that changes its arrays (the FFT, the layout, the quantisation), so
+  /// spectra kept on disk by an older build are computed again
+  /// (earshot/audio/hrtf_disk_cache.hpp).
+  static constexpr std::uint32_t kPreparationVersion = 1;
+
+  /// The arrays, for a disk cache: head, tail and scales as laid out below.
+  struct Stored {
+    std::size_t block = 0;
+    AlignedVector<float> head;
+    AlignedVector<std::int16_t> tail;
+    std::vector<float> scale;
+  };
+  [[nodiscard]] Stored stored() const;
+  /// The spectra `stored()` gave for `set`, taken back without the FFTs.
+  /// Throws std::invalid_argument when a size does not fit `set` and the
+  /// block, or a value is not finite.
+  HrtfSpectra(const hrtf::HrtfSet& set, Stored stored);
+
   [[nodiscard]] std::size_t block() const { return block_; }
   [[nodiscard]] std::size_t partitions() const { return parts_; }
   [[nodiscard]] std::size_t measurements() const { return measurements_; }
@@ -49,6 +68,7 @@ class HrtfSpectra {
   [[nodiscard]] std::span<const std::int16_t> tail(std::size_t measurement, hrtf::Ear ear) const;
   [[nodiscard]] std::span<const float> tail_scale(std::size_t measurement, hrtf::Ear ear) const;
  private:
+  static constexpr std::size_t kMaxStoredBlock = std::size_t{1} << 20;  // keeps the size products small
   std::size_t block_, parts_, measurements_;
   AlignedVector<float> head_;          // [measurement][ear][re, im][stride]
   AlignedVector<std::int16_t> tail_;  // [measurement][ear][partition - 1][re, im][stride], scaled

@@ -129,6 +129,13 @@ class HrtfSet {
   [[nodiscard]] static HrtfSet load(const std::filesystem::path& sofa, double sample_rate);
   [[nodiscard]] static HrtfSet load_default(double sample_rate) { return load(kDefaultPath, sample_rate); }
 
+  /// The version of what load() computes from a file. Bump it with any
+  /// change to load() (or to what it calls: the resampler, the onset split,
+  /// the triangulation) that changes its arrays, so sets prepared by an
+  /// older build and kept on disk are prepared again
+  /// (earshot/audio/hrtf_disk_cache.hpp).
+  static constexpr std::uint32_t kPreparationVersion = 1;
+
   [[nodiscard]] double sample_rate() const { return rate_; }
   /// Taps of every onset-free filter: the responses' length plus room for
   /// the margin kept before the earliest onset.
@@ -182,6 +189,34 @@ class HrtfSet {
   /// With a head radius, lookup returns Woodworth delays (both ears around
   /// a common centre) instead of the measured ones; nullopt restores them.
   void set_parametric_itd(std::optional<double> head_radius_m) { parametric_radius_ = head_radius_m; }
+
+  /// The shells as stored: each one's distance, measurement range,
+  /// triangulation and Gram table (as in ShellData below).
+  struct StoredShell {
+    Shell info;
+    SphereTriangulation::Stored triangulation;
+    std::vector<std::array<std::array<double, 6>, 2>> gram;  // [triangle][ear][00, 11, 22, 01, 02, 12]
+  };
+  /// Everything load() computes, as plain arrays: what a disk cache of
+  /// prepared sets keeps. Not the parametric ITD (a setting, not data).
+  struct Stored {
+    double rate = 0.0;
+    std::size_t filter_length = 0, hrir_length = 0;
+    double removed_delay_s = 0.0;
+    std::vector<Direction> directions;            // [measurement]
+    std::vector<float> filters;                   // [measurement][ear][filter_length]
+    std::vector<float> hrirs;                     // [measurement][ear][hrir_length]
+    std::vector<Delays> delays;                   // [measurement]
+    std::vector<std::array<double, 2>> energies;  // [measurement][ear] of the filters
+    std::vector<StoredShell> shells;              // farthest first
+  };
+  [[nodiscard]] Stored stored() const;
+  /// The set `stored()` gave, taken back without recomputing: its renders
+  /// are sample for sample those of the original. Checks every size and
+  /// what the renderer relies on (finite delays and energies, shells that
+  /// tile the measurements, triangles within their shell) and throws
+  /// std::invalid_argument naming the array that does not fit.
+  [[nodiscard]] static HrtfSet from_stored(Stored s);
 
  private:
   HrtfSet() = default;

@@ -40,7 +40,26 @@ class SphereTriangulation {
   /// The measurement indices of triangle t, in the order locate() gives them.
   [[nodiscard]] std::array<std::uint32_t, 3> vertices(std::size_t t) const { return tris_[t].v; }
 
+  /// What the constructor computes, as plain arrays (for a disk cache of
+  /// prepared sets): each triangle's vertices and inverse matrix, and the
+  /// acceleration grid (cell c's candidates are cell_triangles[cell_start[c]
+  /// .. cell_start[c + 1]]).
+  struct Stored {
+    std::vector<std::array<std::uint32_t, 3>> vertices;
+    std::vector<std::array<double, 9>> inverses;
+    std::vector<std::uint32_t> cell_start, cell_triangles;
+  };
+  [[nodiscard]] Stored stored() const;
+  /// The triangulation `stored()` gave, taken back without recomputing.
+  /// Checks what locate() relies on and throws std::invalid_argument naming
+  /// the array that does not fit: vertex indices below `points`, finite
+  /// inverses, one grid cell per kCells, candidate lists in range.
+  [[nodiscard]] static SphereTriangulation from_stored(Stored s, std::size_t points);
+  /// Cells of the acceleration grid.
+  static constexpr std::size_t kCells = 60 * 30;
+
  private:
+  SphereTriangulation() = default;
   struct Triangle {
     std::array<std::uint32_t, 3> v;
     std::array<double, 9> inv;  // inverse of [a b c] (columns), row-major
@@ -53,6 +72,7 @@ class SphereTriangulation {
   std::vector<Triangle> tris_;
   // Acceleration grid over azimuth x elevation: candidate triangles per cell.
   static constexpr int kAz = 60, kEl = 30;
+  static_assert(kCells == std::size_t{kAz} * kEl);
   std::vector<std::uint32_t> cell_start_, cell_tris_;
 };
 

@@ -198,9 +198,9 @@ TEST_F(HrtfDiskCacheTest, TheNextProcessReadsWhatTheFirstPrepared) {
 }
 
 TEST_F(HrtfDiskCacheTest, ASetReadBackRendersSampleForSampleAsAFreshOne) {
-  HrtfCache off(std::nullopt);
-  const PreparedHrtf fresh = off.get(HrtfSet::kDefaultPath, 48000.0, 128);
-  (void)cache().get(HrtfSet::kDefaultPath, 48000.0, 128);  // fills the disk cache
+  HrtfCache writer = cache();
+  const PreparedHrtf fresh = writer.get(HrtfSet::kDefaultPath, 48000.0, 128);  // prepared, and written
+  ASSERT_EQ(writer.disk_loads(), 0u);
   HrtfCache c = cache();
   const PreparedHrtf read = c.get(HrtfSet::kDefaultPath, 48000.0, 128);
   ASSERT_EQ(c.disk_loads(), 1u);
@@ -213,7 +213,9 @@ TEST_F(HrtfDiskCacheTest, ASetReadBackRendersSampleForSampleAsAFreshOne) {
   EXPECT_EQ(0, std::memcmp(a.data(), b.data(), a.size() * sizeof(float))) << "renders differ";
 
   // The parametric ITD is a setting, not in the file: the same file serves it.
-  const PreparedHrtf fresh_woodworth = off.get(HrtfSet::kDefaultPath, 48000.0, 128, 0.09);
+  HrtfSet woodworth = *fresh.set;
+  woodworth.set_parametric_itd(0.09);
+  const PreparedHrtf fresh_woodworth{std::make_shared<const HrtfSet>(std::move(woodworth)), fresh.spectra};
   HrtfCache c2 = cache();
   const PreparedHrtf read_woodworth = c2.get(HrtfSet::kDefaultPath, 48000.0, 128, 0.09);
   EXPECT_EQ(c2.disk_loads(), 1u);
@@ -356,13 +358,14 @@ TEST_F(HrtfDiskCacheTest, HostileFilesWithARightChecksumAreRefused) {
 }
 
 TEST_F(HrtfDiskCacheTest, AnUnwritableDirectoryMeansNoCacheAndOneNote) {
+  const fs::path sofa = synthetic("set.sofa", kSmall);
   // A directory under a regular file cannot be made, not even by root.
   std::ofstream(root_ / "plain_file") << "x";
   dir_ = root_ / "plain_file" / "cache";
   HrtfCache c = cache();
   PreparedHrtf a, b;
-  ASSERT_NO_THROW(a = c.get(HrtfSet::kDefaultPath, 48000.0, 64));
-  ASSERT_NO_THROW(b = c.get(HrtfSet::kDefaultPath, 48000.0, 32));
+  ASSERT_NO_THROW(a = c.get(sofa, 48000.0, 64));
+  ASSERT_NO_THROW(b = c.get(sofa, 48000.0, 32));
   EXPECT_EQ(c.preparations(), 2u);
   ASSERT_EQ(notes_.size(), 1u) << "one note, not one per set";
   EXPECT_NE(notes_[0].find("plain_file"), std::string::npos) << notes_[0];
@@ -394,7 +397,7 @@ TEST_F(HrtfDiskCacheTest, TheEnvironmentNamesTheDirectoryOrTurnsItOff) {
 
   // Off: nothing is read or written.
   HrtfCache off(std::nullopt);
-  (void)off.get(HrtfSet::kDefaultPath, 48000.0, 64);
+  (void)off.get(synthetic("set.sofa", kSmall), 48000.0, 64);
   EXPECT_TRUE(cache_files().empty());
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "earshot/tracker/lm_refine.hpp"
+#include "small_cholesky.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -36,85 +37,34 @@ Mat12 propagate(const Mat12& P, const Mat3& A, double dt) {
   return out;
 }
 
-/// Cholesky factor L (A = L L^T) of a symmetric positive-definite matrix,
-/// unrolled for the small fixed sizes here (Eigen's LDLT solve against an
-/// identity goes through its general matrix kernels). False when A is not
-/// positive definite to working precision.
-template <int N>
-bool cholesky(const Eigen::Matrix<double, N, N>& A, Eigen::Matrix<double, N, N>& L) {
-  L.setZero();
-  for (int j = 0; j < N; ++j) {
-    double d = A(j, j);
-    for (int k = 0; k < j; ++k) d -= L(j, k) * L(j, k);
-    if (!(d > 0.0)) return false;
-    const double ljj = std::sqrt(d);
-    L(j, j) = ljj;
-    for (int i = j + 1; i < N; ++i) {
-      double v = A(i, j);
-      for (int k = 0; k < j; ++k) v -= L(i, k) * L(j, k);
-      L(i, j) = v / ljj;
-    }
-  }
-  return true;
-}
-
-/// A^-1 from A's Cholesky factor: M = L^-1, A^-1 = M^T M.
-template <int N>
-Eigen::Matrix<double, N, N> inverse_from_cholesky(const Eigen::Matrix<double, N, N>& L) {
-  Eigen::Matrix<double, N, N> M = Eigen::Matrix<double, N, N>::Zero(), inv;
-  for (int j = 0; j < N; ++j) {
-    M(j, j) = 1.0 / L(j, j);
-    for (int i = j + 1; i < N; ++i) {
-      double v = 0.0;
-      for (int k = j; k < i; ++k) v -= L(i, k) * M(k, j);
-      M(i, j) = v / L(i, i);
-    }
-  }
-  for (int i = 0; i < N; ++i)
-    for (int j = 0; j <= i; ++j) {
-      double v = 0.0;
-      for (int k = i; k < N; ++k) v += M(k, i) * M(k, j);
-      inv(i, j) = inv(j, i) = v;
-    }
-  return inv;
-}
-
-/// x^T A^-1 x from A's Cholesky factor (one forward substitution).
-template <int N>
-double mahalanobis2(const Eigen::Matrix<double, N, N>& L, const Eigen::Matrix<double, N, 1>& x) {
-  Eigen::Matrix<double, N, 1> y;
-  double sum = 0.0;
-  for (int i = 0; i < N; ++i) {
-    double v = x(i);
-    for (int k = 0; k < i; ++k) v -= L(i, k) * y(k);
-    y(i) = v / L(i, i);
-    sum += y(i) * y(i);
-  }
-  return sum;
-}
+using detail::cholesky;
+using detail::Cholesky;
+using detail::forward_solve;
+using detail::mahalanobis2;
 
 /// Symmetric inverse: Cholesky when it works, else LDLT's (semi-definite).
 template <int N>
 Eigen::Matrix<double, N, N> sym_inverse(const Eigen::Matrix<double, N, N>& A) {
-  Eigen::Matrix<double, N, N> L;
-  if (cholesky<N>(A, L)) return inverse_from_cholesky<N>(L);
+  Cholesky<N> f;
+  if (cholesky<N>(A, f)) return detail::inverse<N>(f);
   return A.ldlt().solve(Eigen::Matrix<double, N, N>::Identity());
 }
 
-/// Process noise of white acceleration (spectral densities qa, ql) over dt.
-Mat12 process_noise(double qa, double ql, double dt) {
-  Mat12 Q = Mat12::Zero();
+/// Adds the process noise of white acceleration (spectral densities qa, ql)
+/// over dt to P: per axis [dt^3/3, dt^2/2; dt^2/2, dt] q, on the diagonals of
+/// the (angle, angular velocity) and (position, velocity) blocks.
+void add_process_noise(Mat12& P, double qa, double ql, double dt) {
   const double a = dt * dt * dt / 3.0, b = dt * dt / 2.0;
-  const Mat3 I = Mat3::Identity();
-  Q.block<3, 3>(0, 0) = qa * a * I;
-  Q.block<3, 3>(0, 6) = qa * b * I;
-  Q.block<3, 3>(6, 0) = qa * b * I;
-  Q.block<3, 3>(6, 6) = qa * dt * I;
-  Q.block<3, 3>(3, 3) = ql * a * I;
-  Q.block<3, 3>(3, 9) = ql * b * I;
-  Q.block<3, 3>(9, 3) = ql * b * I;
-  Q.block<3, 3>(9, 9) = ql * dt * I;
-  return Q;
+  for (int i = 0; i < 3; ++i) {
+    P(i, i) += qa * a;
+    P(i, 6 + i) += qa * b;
+    P(6 + i, i) += qa * b;
+    P(6 + i, 6 + i) += qa * dt;
+    P(3 + i, 3 + i) += ql * a;
+    P(3 + i, 9 + i) += ql * b;
+    P(9 + i, 3 + i) += ql * b;
+    P(9 + i, 9 + i) += ql * dt;
+  }
 }
 
 /// The pose an error (dtheta, dp) away from x.
@@ -129,11 +79,15 @@ Mat6 pose_covariance(const Pose& pose, std::span<const Correspondence> dots, con
     const auto J = reprojection_jacobian(pose, model.leds_mm[static_cast<size_t>(d.led)], cam);
     H.noalias() += J.transpose() * J;
   }
+  return pose_covariance_from_jtj(H, pixel_variance);
+}
+
+Mat6 pose_covariance_from_jtj(Mat6 jtj, double pixel_variance) {
   // A whisker of regularisation (1e-9 of the largest diagonal entry) keeps a
   // degenerate three-dot geometry invertible: its weak directions come out
   // with a huge variance, which is what they have.
-  H.diagonal().array() += 1e-9 * H.diagonal().maxCoeff() + 1e-300;
-  return pixel_variance * sym_inverse<6>(H);
+  jtj.diagonal().array() += 1e-9 * jtj.diagonal().maxCoeff() + 1e-300;
+  return pixel_variance * sym_inverse<6>(jtj);
 }
 
 void PixelNoiseEstimator::add(double sum_sq_px, int dots) {
@@ -175,7 +129,6 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
     return x_;
   }
   const Mat3 A = exp_so3(w_ * dt);
-  const Mat12 Q = process_noise(p_.angular_accel_psd, p_.linear_accel_psd, dt);
   const Pose x_pred{A * x_.R, x_.t + v_ * dt};
   const Mat12 FPF = propagate(P_, A, dt);
 
@@ -184,19 +137,24 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   nu.tail<3>() = z.t - x_pred.t;
 
   // The smallest process-noise scale that explains the measurement. Only
-  // the pose block of P_pred enters S; the whole of it is formed once.
-  Mat6 S, L;
+  // the pose block of P_pred enters S: the process noise there is diagonal,
+  // q dt^3 / 3 per axis.
+  const double dt3 = dt * dt * dt / 3.0;
+  Mat6 S;
+  Cholesky<6> L;
   double nis = 0.0, scale = 1.0;
   bool factored = false;
   for (scale = 1.0; scale <= kMaxScale; scale *= 10.0) {
-    S = FPF.topLeftCorner<6, 6>() + scale * Q.topLeftCorner<6, 6>() + cov;
+    S = FPF.topLeftCorner<6, 6>() + cov;
+    S.diagonal().head<3>().array() += scale * p_.angular_accel_psd * dt3;
+    S.diagonal().tail<3>().array() += scale * p_.linear_accel_psd * dt3;
     factored = cholesky<6>(S, L);
     nis = factored ? mahalanobis2<6>(L, nu) : nu.dot(S.ldlt().solve(nu));
     if (nis <= p_.manoeuvre_chi2) break;
   }
   scale = std::min(scale, kMaxScale);
-  const Mat6 S_inv = factored ? inverse_from_cholesky<6>(L) : sym_inverse<6>(S);
-  const Mat12 P_pred = FPF + scale * Q;
+  Mat12 P_pred = FPF;
+  add_process_noise(P_pred, scale * p_.angular_accel_psd, scale * p_.linear_accel_psd, dt);
   nis_ = nis;
   q_scale_ = scale;
   step_.t = t;
@@ -214,7 +172,8 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
       return x_;
     }
     x_ = x_pred;
-    P_ = FPF + Q;  // the model's own uncertainty, not the inflated one tried
+    P_ = FPF;  // the model's own uncertainty, not the inflated one tried
+    add_process_noise(P_, p_.angular_accel_psd, p_.linear_accel_psd, dt);
     step_.P_pred = P_;
     t_ = t;
     step_.pose_upd = x_;
@@ -226,17 +185,31 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   rejected_ = false;
   rejected_run_ = 0;
 
-  // K = P H^T S^-1 with H = [I6 0]; P = P_pred - K H P_pred (the Joseph
-  // form's algebraic equal for this optimal gain, at a quarter of its cost),
-  // symmetrised.
-  const Eigen::Matrix<double, 12, 6> PHt = P_pred.leftCols<6>();
-  const Eigen::Matrix<double, 12, 6> K = PHt * S_inv;
-  const Vec12 dx = K * nu;
+  // With H = [I6 0] and S = L L^T: K = P H^T S^-1 = B^T L^-1 for
+  // B = L^-1 (H P) (6 x 12); the correction K nu = B^T (L^-1 nu) and
+  // P = P_pred - K H P_pred = P_pred - B^T B, symmetric by construction.
+  Vec12 dx;
+  if (factored) {
+    Eigen::Matrix<double, 6, 12> B;
+    for (int c = 0; c < 12; ++c) B.col(c) = forward_solve<6>(L, P_pred.block<6, 1>(0, c));
+    const Eigen::Matrix<double, 6, 1> y = forward_solve<6>(L, nu);
+    dx.noalias() = B.transpose() * y;
+    for (int j = 0; j < 12; ++j)
+      for (int i = j; i < 12; ++i) P_pred(i, j) -= B.col(i).dot(B.col(j));
+    for (int j = 0; j < 12; ++j)
+      for (int i = 0; i < j; ++i) P_pred(i, j) = P_pred(j, i);
+    P_ = P_pred;
+  } else {  // S only semi-definite: its LDLT inverse
+    const Mat6 S_inv = sym_inverse<6>(S);
+    const Eigen::Matrix<double, 12, 6> PHt = P_pred.leftCols<6>();
+    const Eigen::Matrix<double, 12, 6> K = PHt.lazyProduct(S_inv);
+    dx.noalias() = K * nu;
+    P_ = P_pred - K.lazyProduct(PHt.transpose());
+    P_ = Mat12(0.5 * (P_ + P_.transpose()));  // a temporary: no aliasing through the transpose
+  }
   x_ = inject(x_pred, dx.segment<3>(0), dx.segment<3>(3));
   w_ += dx.segment<3>(6);
   v_ += dx.segment<3>(9);
-  P_.noalias() = P_pred - K * PHt.transpose();
-  P_ = Mat12(0.5 * (P_ + P_.transpose()));  // a temporary: no aliasing through the transpose
   t_ = t;
   step_.pose_upd = x_;
   step_.w_upd = w_;

@@ -1,7 +1,8 @@
 #include "earshot/tracker/lm_refine.hpp"
 
-#include <Eigen/Cholesky>
 #include <cmath>
+
+#include "small_cholesky.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -9,22 +10,58 @@ namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
-/// 0.5 * sum of squared residuals; infinity when a point falls behind the camera.
-double cost_of(const Pose& p, std::span<const Correspondence> dots, const Camera& cam,
-               const LedModel& model, const PosePrior* prior) {
+/// The problem linearised at one pose: cost, J^T J and J^T r.
+struct Linearised {
+  double cost = 0.0;  ///< 0.5 * sum of squared residuals, prior included
+  Mat6 jtj_dots;      ///< J^T J of the reprojection residuals alone
+  Mat6 H;             ///< J^T J with the prior's
+  Vec6 g;             ///< J^T r
+};
+
+/// One pass over the dots: each is projected once and its residual and
+/// Jacobian (lm_refine.hpp) come from the same numbers. False when a point
+/// falls behind the camera.
+bool linearise(const Pose& p, std::span<const Correspondence> dots, const Camera& cam, const LedModel& model,
+               const PosePrior* prior, Linearised& out) {
+  Mat6 H = Mat6::Zero();
+  Vec6 g = Vec6::Zero();
   double c = 0.0;
-  if (prior) {
+  for (const auto& d : dots) {
+    const Vec3 RX = p.R * model.leds_mm[static_cast<size_t>(d.led)];
+    const Vec3 P = RX + p.t;
+    if (!(P.z() > 1e-6)) return false;
+    const double iz = 1.0 / P.z();
+    const double x = P.x() * iz, y = P.y() * iz;
+    const Vec2 r(cam.fx * x + cam.cx - d.pixel.x(), cam.fy * y + cam.cy - d.pixel.y());
+    // Rows of d project / dP; the rotation columns are (R X) x row, i.e.
+    // row^T * -[R X]x.
+    const Vec3 a(cam.fx * iz, 0.0, -cam.fx * x * iz);
+    const Vec3 b(0.0, cam.fy * iz, -cam.fy * y * iz);
+    Eigen::Matrix<double, 2, 6> J;
+    J.block<1, 3>(0, 0) = RX.cross(a).transpose();
+    J.block<1, 3>(0, 3) = a.transpose();
+    J.block<1, 3>(1, 0) = RX.cross(b).transpose();
+    J.block<1, 3>(1, 3) = b.transpose();
+    H.noalias() += J.transpose() * J;
+    g.noalias() += J.transpose() * r;
+    c += r.squaredNorm();
+  }
+  out.jtj_dots = H;
+  if (prior) {  // prior residuals; d log(exp(w) R Rp^T)/dw ~ I near the prior
     const double wr = prior->pixel_sigma / prior->rotation_sigma_rad;
     const double wt = prior->pixel_sigma / prior->translation_sigma_mm;
-    c += (wr * log_so3(p.R * prior->pose.R.transpose())).squaredNorm();
-    c += (wt * (p.t - prior->pose.t)).squaredNorm();
+    const Vec3 er = log_so3(p.R * prior->pose.R.transpose());
+    const Vec3 et = p.t - prior->pose.t;
+    H.diagonal().head<3>().array() += wr * wr;
+    H.diagonal().tail<3>().array() += wt * wt;
+    g.head<3>() += wr * wr * er;
+    g.tail<3>() += wt * wt * et;
+    c += wr * wr * er.squaredNorm() + wt * wt * et.squaredNorm();
   }
-  for (const auto& d : dots) {
-    const Vec3 P = p.apply(model.leds_mm[static_cast<size_t>(d.led)]);
-    if (P.z() <= 1e-6) return INFINITY;
-    c += (cam.project(P) - d.pixel).squaredNorm();
-  }
-  return 0.5 * c;
+  out.cost = 0.5 * c;
+  out.H = H;
+  out.g = g;
+  return true;
 }
 
 }  // namespace
@@ -47,59 +84,54 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
                         const PosePrior* prior) {
   LmResult res;
   res.pose = initial;
-  res.cost = cost_of(initial, dots, cam, model, prior);
-  if (dots.size() < 3 || !std::isfinite(res.cost)) return res;
+  Linearised cur;
+  if (!linearise(initial, dots, cam, model, prior, cur)) {
+    res.cost = INFINITY;
+    return res;
+  }
+  res.cost = cur.cost;
+  res.jtj = cur.jtj_dots;
+  if (dots.size() < 3) return res;
 
+  // A step is small when it moves the dots by under the tolerance: its
+  // predicted change of the residuals, delta^T H delta, against n tol^2.
+  const double small2 = static_cast<double>(dots.size()) * opt.step_tolerance_px * opt.step_tolerance_px;
   double lambda = opt.initial_lambda;
-  for (int it = 0; it < opt.max_iterations; ++it) {
+  Linearised next;
+  for (int it = 0; it < opt.max_iterations && !res.converged; ++it) {
     res.iterations = it + 1;
-    Mat6 H = Mat6::Zero();
-    Vec6 g = Vec6::Zero();
-    for (const auto& d : dots) {
-      const Vec3& X = model.leds_mm[static_cast<size_t>(d.led)];
-      const auto J = reprojection_jacobian(res.pose, X, cam);
-      const Vec2 r = cam.project(res.pose.apply(X)) - d.pixel;
-      H.noalias() += J.transpose() * J;
-      g.noalias() += J.transpose() * r;
-    }
-    if (prior) {  // prior residuals; d log(exp(w) R Rp^T)/dw ~ I near the prior
-      const double wr = prior->pixel_sigma / prior->rotation_sigma_rad;
-      const double wt = prior->pixel_sigma / prior->translation_sigma_mm;
-      H.diagonal().head<3>().array() += wr * wr;
-      H.diagonal().tail<3>().array() += wt * wt;
-      g.head<3>() += wr * wr * log_so3(res.pose.R * prior->pose.R.transpose());
-      g.tail<3>() += wt * wt * (res.pose.t - prior->pose.t);
-    }
     bool improved = false;
-    Vec6 delta = Vec6::Zero();
     while (lambda < 1e12) {
-      Mat6 A = H;
-      A.diagonal() += lambda * (H.diagonal().array() + 1e-12).matrix();
-      delta = -A.ldlt().solve(g);
-      if (!delta.allFinite()) {
+      Mat6 A = cur.H;
+      detail::Cholesky<6> L;
+      A.diagonal() += lambda * (cur.H.diagonal().array() + 1e-12).matrix();
+      Vec6 delta = Vec6::Constant(NAN);
+      if (detail::cholesky<6>(A, L)) delta = -detail::cholesky_solve<6>(L, cur.g);
+      if (!delta.allFinite()) {  // not positive definite (or not a number): damp harder
         lambda *= 10.0;
         continue;
       }
       const Pose cand{exp_so3(delta.head<3>()) * res.pose.R, res.pose.t + delta.tail<3>()};
-      const double c = cost_of(cand, dots, cam, model, prior);
-      if (c <= res.cost) {
-        const double old = res.cost;
+      if (delta.dot(cur.H * delta) <= small2) {
+        // Converged: take the last small step without evaluating it.
         res.pose = cand;
-        res.cost = c;
+        res.converged = true;
+        improved = true;
+        break;
+      }
+      if (linearise(cand, dots, cam, model, prior, next) && next.cost <= cur.cost) {
+        res.pose = cand;
+        std::swap(cur, next);
+        res.cost = cur.cost;
+        res.jtj = cur.jtj_dots;
         lambda = std::max(lambda * 0.1, 1e-12);
         improved = true;
-        if (old - c <= opt.cost_tolerance * (old + 1e-30)) res.converged = true;
         break;
       }
       lambda *= 10.0;
     }
     if (!improved) {
       res.converged = true;  // no step lowers the cost: a minimum to precision
-      break;
-    }
-    const double step = delta.head<3>().norm() + delta.tail<3>().norm() / (1.0 + res.pose.t.norm());
-    if (res.converged || step < opt.step_tolerance) {
-      res.converged = true;
       break;
     }
   }

@@ -67,6 +67,8 @@ struct EskfParams {
 /// over these dots: pixel_variance * (J^T J)^-1.
 [[nodiscard]] Mat6 pose_covariance(const Pose& pose, std::span<const Correspondence> dots, const Camera& cam,
                                    const LedModel& model, double pixel_variance);
+/// The same from J^T J at the pose (LmResult::jtj), without differentiating again.
+[[nodiscard]] Mat6 pose_covariance_from_jtj(Mat6 jtj, double pixel_variance);
 
 /// The pixel noise variance, from the residuals of 4-dot solves (2 degrees of
 /// freedom each: 8 residuals, 6 pose parameters). Starts at integer pixels'

@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <memory>
 #include <stdexcept>
 #include <system_error>
@@ -72,6 +73,10 @@ std::uint32_t tag_of(Section s) {
   return t;
 }
 
+/// A file's payload as pieces: section headers and small sections owned
+/// here, large arrays referenced where they are (they must outlive the
+/// Writer), so an 11 MB payload is never copied into one buffer to be
+/// written.
 class Writer {
  public:
   template <Section S, class T>
@@ -80,21 +85,40 @@ class Writer {
     static_assert(sizeof(T) == kSections[S].size, "a section's element changed size: change kSections");
     const std::uint32_t tag = tag_of(S), size = sizeof(T);
     const std::uint64_t count = values.size();
-    raw(&tag, 4);
-    raw(&size, 4);
-    raw(&count, 8);
-    raw(values.data(), values.size_bytes());
-    bytes.resize((bytes.size() + 7) / 8 * 8, 0);
+    std::vector<std::uint8_t>& head = owned_.emplace_back(16);
+    std::memcpy(head.data(), &tag, 4);
+    std::memcpy(head.data() + 4, &size, 4);
+    std::memcpy(head.data() + 8, &count, 8);
+    const auto* data = reinterpret_cast<const std::uint8_t*>(values.data());
+    if (values.size_bytes() <= 256) {
+      head.insert(head.end(), data, data + values.size_bytes());
+      add(head);
+    } else {
+      add(head);
+      pieces_.emplace_back(data, values.size_bytes());
+      bytes_ += values.size_bytes();
+    }
+    if (const std::size_t pad = (8 - bytes_ % 8) % 8) {
+      pieces_.emplace_back(kZeros.data(), pad);
+      bytes_ += pad;
+    }
   }
   template <Section S, class T, class A>
   void put(const std::vector<T, A>& v) {
     put<S, T>(std::span<const T>(v));
   }
-  void raw(const void* p, std::size_t n) {
-    const auto* b = static_cast<const std::uint8_t*>(p);
-    bytes.insert(bytes.end(), b, b + n);
+  [[nodiscard]] const std::vector<std::span<const std::uint8_t>>& pieces() const { return pieces_; }
+  [[nodiscard]] std::size_t bytes() const { return bytes_; }
+
+ private:
+  void add(const std::vector<std::uint8_t>& b) {
+    pieces_.emplace_back(b.data(), b.size());
+    bytes_ += b.size();
   }
-  std::vector<std::uint8_t> bytes;
+  static constexpr std::array<std::uint8_t, 8> kZeros{};
+  std::deque<std::vector<std::uint8_t>> owned_;  // a deque: what pieces_ points at never moves
+  std::vector<std::span<const std::uint8_t>> pieces_;
+  std::size_t bytes_ = 0;
 };
 
 [[noreturn]] void corrupt(const std::string& what) { throw std::runtime_error(what); }
@@ -219,12 +243,12 @@ std::uint64_t HrtfDiskCache::format_id() {
   return id;
 }
 
-std::vector<std::uint8_t> HrtfDiskCache::serialize(const Key& key, const hrtf::HrtfSet& set,
-                                                   const HrtfSpectra& spectra) {
-  hrtf::HrtfSet::Stored s = set.stored();
-  const HrtfSpectra::Stored sp = spectra.stored();
+namespace {
+
+/// The arrays of a set and its spectra as a file's payload (referencing
+/// `s` and `sp`, which must outlive it).
+Writer payload_of(const hrtf::HrtfSet::Stored& s, const HrtfSpectra::Stored& sp) {
   Writer w;
-  w.bytes.resize(kHeaderBytes);  // filled in last
   w.put<kSetScalars>(std::vector<double>{s.rate, s.removed_delay_s});
   w.put<kSetSizes>(std::vector<std::uint64_t>{s.filter_length, s.hrir_length, s.shells.size()});
   w.put<kDirs>(s.directions);
@@ -244,16 +268,38 @@ std::vector<std::uint8_t> HrtfDiskCache::serialize(const Key& key, const hrtf::H
   w.put<kSpectraHead>(sp.head);
   w.put<kSpectraTail>(sp.tail);
   w.put<kSpectraScale>(sp.scale);
+  return w;
+}
 
+Header header_of(const HrtfDiskCache::Key& key, const Writer& w) {
   Header h;
-  h.format_id = format_id();
+  h.format_id = HrtfDiskCache::format_id();
   h.sofa_hash = key.sofa_hash;
   h.rate = key.rate;
   h.block = key.block;
-  h.payload_bytes = w.bytes.size() - kHeaderBytes;
-  h.checksum = hash128(std::span(w.bytes).subspan(kHeaderBytes));
-  std::memcpy(w.bytes.data(), &h, sizeof h);
-  return std::move(w.bytes);
+  h.payload_bytes = w.bytes();
+  XXH3_state_t state;
+  XXH3_128bits_reset(&state);
+  for (const auto& piece : w.pieces()) XXH3_128bits_update(&state, piece.data(), piece.size());
+  XXH128_canonical_t c;
+  XXH128_canonicalFromHash(&c, XXH3_128bits_digest(&state));
+  std::memcpy(h.checksum.data(), c.digest, 16);
+  return h;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> HrtfDiskCache::serialize(const Key& key, const hrtf::HrtfSet& set,
+                                                   const HrtfSpectra& spectra) {
+  const hrtf::HrtfSet::Stored s = set.stored();
+  const HrtfSpectra::Stored sp = spectra.stored();
+  const Writer w = payload_of(s, sp);
+  const Header h = header_of(key, w);
+  std::vector<std::uint8_t> out(kHeaderBytes);
+  out.reserve(kHeaderBytes + w.bytes());
+  std::memcpy(out.data(), &h, sizeof h);
+  for (const auto& piece : w.pieces()) out.insert(out.end(), piece.begin(), piece.end());
+  return out;
 }
 
 HrtfDiskCache::Loaded HrtfDiskCache::parse(std::span<const std::uint8_t> bytes, const Key& expected,
@@ -356,13 +402,13 @@ HrtfDiskCache::HrtfDiskCache(std::optional<fs::path> dir, Notes notes) : dir_(st
 void HrtfDiskCache::note(const std::string& line) const { notes_(line); }
 
 fs::path HrtfDiskCache::file_for(const Key& key) const {
-  Writer w;
-  w.raw(key.sofa_hash.data(), 16);
-  w.raw(&key.rate, 8);
-  w.raw(&key.block, 8);
+  std::array<std::uint8_t, 40> name{};
   const std::uint64_t id = format_id();
-  w.raw(&id, 8);
-  return dir_.value() / (hex(hash128(w.bytes)) + ".hrtf");
+  std::memcpy(name.data(), key.sofa_hash.data(), 16);
+  std::memcpy(name.data() + 16, &key.rate, 8);
+  std::memcpy(name.data() + 24, &key.block, 8);
+  std::memcpy(name.data() + 32, &id, 8);
+  return dir_.value() / (hex(hash128(name)) + ".hrtf");
 }
 
 std::optional<HrtfDiskCache::Loaded> HrtfDiskCache::load(const Key& key) const {
@@ -414,7 +460,10 @@ void HrtfDiskCache::store(const Key& key, const hrtf::HrtfSet& set, const HrtfSp
   std::string problem;
   fs::path tmp;
   try {
-    const std::vector<std::uint8_t> bytes = serialize(key, set, spectra);
+    const hrtf::HrtfSet::Stored s = set.stored();
+    const HrtfSpectra::Stored sp = spectra.stored();
+    const Writer w = payload_of(s, sp);
+    const Header h = header_of(key, w);
     std::error_code ec;
     fs::create_directories(*dir_, ec);
     const fs::path file = file_for(key);
@@ -424,16 +473,16 @@ void HrtfDiskCache::store(const Key& key, const hrtf::HrtfSet& set, const HrtfSp
     if (fd < 0) {
       problem = errno_text(errno);
     } else {
-      std::size_t put = 0;
-      while (put < bytes.size()) {
-        const ssize_t n = ::write(fd, bytes.data() + put, bytes.size() - put);
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) {
-          problem = errno_text(n < 0 ? errno : ENOSPC);
-          break;
+      const auto put = [&](const std::uint8_t* p, std::size_t n) {
+        while (n > 0 && problem.empty()) {
+          const ssize_t k = ::write(fd, p, n);
+          if (k < 0 && errno == EINTR) continue;
+          if (k <= 0) problem = errno_text(k < 0 ? errno : ENOSPC);
+          if (k > 0) p += k, n -= static_cast<std::size_t>(k);
         }
-        put += static_cast<std::size_t>(n);
-      }
+      };
+      put(reinterpret_cast<const std::uint8_t*>(&h), sizeof h);
+      for (const auto& piece : w.pieces()) put(piece.data(), piece.size());
       if (::close(fd) != 0 && problem.empty()) problem = errno_text(errno);
       if (problem.empty() && ::rename(tmp.c_str(), file.c_str()) != 0) problem = errno_text(errno);
     }

@@ -29,6 +29,7 @@
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/hrtf_disk_cache.hpp"
 #include "earshot/audio/renderer.hpp"
+#include "earshot/errors.hpp"
 
 using earshot::audio::HrtfCache;
 using earshot::audio::HrtfDiskCache;
@@ -461,5 +462,21 @@ TEST_F(HrtfDiskCacheTest, TwoProcessesWritingAtOnceLeaveAWholeFile) {
   HrtfCache c = cache();
   (void)c.get(sofa, 48000.0, 16);
   EXPECT_EQ(c.disk_loads(), 1u);
+  EXPECT_TRUE(notes_.empty());
+}
+
+TEST_F(HrtfDiskCacheTest, ABadSofaFileIsStillAnErrorAndNothingIsWritten) {
+  const fs::path bad = root_ / "not_sofa.sofa";
+  std::ofstream(bad) << "this is not a SOFA file\n";
+  HrtfCache c = cache();
+  for (const fs::path& p : {bad, root_ / "missing.sofa"}) {
+    try {
+      (void)c.get(p, 48000.0, 128);
+      FAIL() << "a bad file loaded";
+    } catch (const earshot::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(p.filename().string()), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(cache_files().empty());
   EXPECT_TRUE(notes_.empty());
 }

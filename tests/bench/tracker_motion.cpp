@@ -57,6 +57,7 @@ struct Options {
   EskfParams eskf{};
   double pixel_variance = 0.0;  ///< 0: the tracker estimates it
   bool misses = false;          ///< only the table of untracked frames by cause
+  bool flip_log = false;        ///< with --misses: one line per flip event, with its context
 };
 
 LabelledDots true_labels(const DotFrame& f) {
@@ -198,6 +199,13 @@ constexpr const char* kMissNames[kMissKinds] = {
     "3 LEDs, tracking before: not followed", "4 LEDs, tracking before: not followed",
     "3 LEDs after a loss: not re-acquired", "4 LEDs after a loss: not re-acquired", "a stray among the dots"};
 
+/// What a flipped frame got wrong: a dot given the wrong LED (a stray taken
+/// for one, or a permutation), the other pose of the right labels from 4 or
+/// from 3 dots, or only the filter's output (the solve itself was right).
+enum FlipKind { kFlipLabels, kFlip4, kFlip3, kFlipFilter, kFlipKinds };
+constexpr const char* kFlipNames[kFlipKinds] = {"flips: wrong labels", "flips: 4-dot pose", "flips: 3-dot pose",
+                                                "flips: filter only"};
+
 /// Part 3 of issue 18: the eskf tracker on hard walks (fast heads, any roll,
 /// dropouts, strays, both beacons and focal lengths, 8-px and integer
 /// pixels); every 3+ LED frame not tracked is counted by cause, with what
@@ -222,9 +230,10 @@ void misses(const Options& o) {
   for (auto sd : o.seeds) std::printf(" %llu", static_cast<unsigned long long>(sd));
   std::printf(", %ld frames each\n\n", o.frames);
   std::printf("| walk | beacon | pixels | speed p50/p99/max | 3+ LED frames | tracked | flips |");
+  for (const char* n : kFlipNames) std::printf(" %s |", n);
   for (const char* n : kMissNames) std::printf(" %s |", n);
   std::printf(" prediction off > match gate | true-label fit > fit gate |\n|---|---|---|---|---|---|---|");
-  for (int k = 0; k < kMissKinds + 2; ++k) std::printf("---|");
+  for (int k = 0; k < int{kFlipKinds} + int{kMissKinds} + 2; ++k) std::printf("---|");
   std::printf("\n");
   for (const Walk& w : walks)
     for (const Beacon& b : beacons)
@@ -232,6 +241,7 @@ void misses(const Options& o) {
         const Camera cam = Camera::with_focal(b.focal);
         long frames3 = 0, tracked3 = 0, flips = 0, off_gate = 0, fit_gate = 0;
         std::array<long, kMissKinds> miss{};
+        std::array<long, kFlipKinds> flip_kind{};
         SpeedCollector speed;
         for (const auto seed : o.seeds) {
           SimulatorConfig cfg;
@@ -246,16 +256,31 @@ void misses(const Options& o) {
           TrackerConfig tc;
           tc.filter = FilterKind::eskf;
           DotTracker tr(cam, b.model, tc);
-          bool was_tracking = false;
+          bool was_tracking = false, was_flipped = false;
           for (long i = 0; i < o.frames; ++i) {
             const DotFrame f = sim.next();
             speed.add(f.truth->pose, f.t);
             const std::optional<Pose> pred = tr.predict(f.t);
             const TrackResult r = tr.process(f);
             const int leds = leds_seen(f);
-            if (r.state == PoseState::tracking &&
-                rotation_angle_between(r.pose.R, f.truth->pose.R) > kFlipDeg * M_PI / 180.0)
+            const bool flip = r.state == PoseState::tracking &&
+                              rotation_angle_between(r.pose.R, f.truth->pose.R) > kFlipDeg * M_PI / 180.0;
+            if (flip) {
               ++flips;
+              bool labels_ok = true;
+              for (size_t s = 0; s < kSlots; ++s)
+                if (r.slot_led[s] >= 0 && r.slot_led[s] != f.truth->slot_led[s] - 1) labels_ok = false;
+              const double raw_deg = rotation_angle_between(r.raw_pose.R, f.truth->pose.R) * 180.0 / M_PI;
+              ++flip_kind[!labels_ok ? kFlipLabels : raw_deg <= kFlipDeg ? kFlipFilter : r.dots_used >= 4 ? kFlip4 : kFlip3];
+              if (o.flip_log && !was_flipped)
+                std::printf("flip %s/%s/%s seed %llu frame %ld: %d LEDs %d dots, used %d, labels %s, raw %.1f deg off, "
+                            "out %.1f deg off, rms %.2f px\n",
+                            motion_profile_name(w.motion).data(), b.name, pixels == PixelModel::integer ? "integer" : "8-px",
+                            static_cast<unsigned long long>(seed), i, leds, f.visible(), r.dots_used,
+                            labels_ok ? "right" : "wrong", raw_deg,
+                            rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px);
+            }
+            was_flipped = flip;
             if (leds >= 3) {
               ++frames3;
               if (r.state == PoseState::tracking) {
@@ -287,6 +312,7 @@ void misses(const Options& o) {
         std::printf("| %s | %s | %s | %.0f/%.0f/%.0f | %ld | %.3f %% | %ld |", w.name, b.name,
                     pixels == PixelModel::integer ? "integer" : "8-px", st.p50, st.p99, st.max, frames3,
                     100.0 * static_cast<double>(tracked3) / static_cast<double>(std::max(1L, frames3)), flips);
+        for (long m : flip_kind) std::printf(" %ld |", m);
         for (long m : miss) std::printf(" %ld |", m);
         std::printf(" %ld | %ld |\n", off_gate, fit_gate);
         std::fflush(stdout);
@@ -331,10 +357,12 @@ int main(int argc, char** argv) {
       o.pixel_variance = std::atof(next());
     } else if (a == "--misses") {
       o.misses = true;
+    } else if (a == "--flip-log") {
+      o.flip_log = true;
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses [--flip-log]]\n");
       return 2;
     }
   }

@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "earshot/tracker/lm_refine.hpp"
 #include "earshot/tracker/lm_solver.hpp"
+#include "earshot/tracker/p3p.hpp"
 #include "earshot/tracker/thesis_solver.hpp"
 #include "settle_output.hpp"
 
@@ -11,6 +13,37 @@ namespace earshot::tracker {
 namespace {
 /// The fit gate in standard deviations of the estimated pixel noise.
 constexpr double kFitGateSigmas = 3.0;
+/// 99.9 % point of chi-square with 2 degrees of freedom: a 4-dot fit has 8
+/// residuals and 6 pose parameters, so its sum of squared residuals over the
+/// pixel variance beyond this says one dot is not the LED it was given.
+constexpr double kChi2TwoDof999 = 13.8;
+/// Two poses whose likelihoods given the prediction differ by less than
+/// 100 : 1 (half the difference of their squared Mahalanobis distances
+/// below ln 100) cannot be told apart by motion continuity.
+constexpr double kAmbiguousChi2Gap = 2.0 * 4.605;
+/// 4-dot fits after which the pixel noise estimate is trusted to judge a fit
+/// (its running mean has settled to ~10 %: the variance of a 2-dof chi-square
+/// sample mean falls as 1/n).
+constexpr long kNoiseKnownSamples = 100;
+/// No camera places a dot's centre better than ~0.1 px: the pixel variance
+/// a fit is judged by never falls below (0.1 px)^2 (noise-free input would
+/// otherwise make the solver's own tolerance look like a stray).
+constexpr double kMinPixelVariance = 1e-2;
+
+/// Squared Mahalanobis distance of pose `p` from the prediction `pred`, whose
+/// spread (rotation, translation: the eskf's error state) is `spread`.
+double mahalanobis2(const Pose& p, const Pose& pred, const Mat6& spread) {
+  Eigen::Matrix<double, 6, 1> nu;
+  nu.head<3>() = log_so3(p.R * pred.R.transpose());
+  nu.tail<3>() = p.t - pred.t;
+  return nu.dot(spread.ldlt().solve(nu));
+}
+
+/// Distance between two poses without a covariance: radians plus
+/// translation at 100 mm per radian (a head's LEDs sit ~100 mm from its centre).
+double pose_distance(const Pose& a, const Pose& b) {
+  return rotation_angle_between(a.R, b.R) + (a.t - b.t).norm() / 100.0;
+}
 }  // namespace
 
 std::optional<FilterKind> filter_kind_from(std::string_view name) {
@@ -31,6 +64,10 @@ struct DotTracker::Hypothesis {
   double rms = 0.0;
   int dots = 0;
   std::array<int, kSlots> slot_led{-1, -1, -1, -1};
+  /// This frame's 3-dot pose has a rival P3P root about as likely given the
+  /// prediction: followed, but not given out as tracked.
+  bool ambiguous = false;
+  double ssr4 = -1.0;  ///< this frame's 4-dot sum of squared residuals (px^2), -1 without one
 };
 
 DotTracker::DotTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg)
@@ -55,6 +92,7 @@ void DotTracker::reset() {
   median_.reset();
   eskf_.reset();
   pixel_noise_.reset();
+  noise_samples_ = 0;
   output_hyp_id_ = 0;
   output_slot_led_ = {-1, -1, -1, -1};
   last_eskf_dots_ = 4;
@@ -62,6 +100,21 @@ void DotTracker::reset() {
   last_output_.reset();
   last_raw_.reset();
   last_solve_t_ = -1e300;
+}
+
+std::optional<Mat6> DotTracker::prediction_spread(double t) const {
+  if (!eskf_.initialised()) return std::nullopt;
+  // The pose block of the eskf's covariance carried to t by constant
+  // velocity (error x + dt v), plus the white acceleration's q dt^3 / 3.
+  const double dt = std::max(0.0, t - eskf_.last_step().t);
+  Eigen::Matrix<double, 6, 12> F = Eigen::Matrix<double, 6, 12>::Zero();
+  F.leftCols<6>().setIdentity();
+  F.rightCols<6>() = dt * Mat6::Identity();
+  Mat6 S = F * eskf_.covariance() * F.transpose();
+  const double dt3 = dt * dt * dt / 3.0;
+  S.topLeftCorner<3, 3>() += cfg_.eskf.angular_accel_psd * dt3 * Mat3::Identity();
+  S.bottomRightCorner<3, 3>() += cfg_.eskf.linear_accel_psd * dt3 * Mat3::Identity();
+  return S;
 }
 
 std::optional<Pose> DotTracker::predict(double t) const {
@@ -109,12 +162,29 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   // eskf when it runs (its velocity is filtered; two noisy poses' difference
   // is not, and with coarse pixels it throws the prediction tens of pixels
   // off at speed), the rivals' from their last two poses.
+  const double var = std::max(kMinPixelVariance, pixel_noise_.variance());
+  const bool noise_known = noise_samples_ >= kNoiseKnownSamples;
   bool any_ok = false;
   for (auto& h : hyps_) {
     h.dots = 0;
+    h.ambiguous = false;
+    h.ssr4 = -1.0;
     std::optional<Pose> filtered;
-    if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) filtered = eskf_.predict(frame.t);
+    std::optional<Mat6> spread;
+    if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) {
+      filtered = eskf_.predict(frame.t);
+      spread = prediction_spread(frame.t);
+    }
     const Pose pred = filtered ? *filtered : h.cv.predict(frame.t).value_or(h.pose);
+    // How far a pose is from the prediction: in the prediction's spread when
+    // the eskf gives one (rotation and translation weighed by what the motion
+    // allows). The pose's own covariance is left out: three dots leave it
+    // near singular along the very direction that separates two roots, and
+    // each root fits its dots exactly.
+    auto off = [&](const Pose& p) {
+      if (!spread) return pose_distance(p, pred);
+      return mahalanobis2(p, pred, *spread);
+    };
     auto lab = labeller_.follow(frame, pred);
     if (!lab) continue;
     // The pose of a labelling, if it fits and every LED it sees faces the camera.
@@ -128,10 +198,26 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       return std::pair{*pose, rms};
     };
     auto got = fit(*lab);
-    if (!got && lab->dots.count == 4) {
-      // Four matched but they do not fit: a stray inside the match gate taken
-      // for an LED, or one dot far off. The best-fitting three, near the
-      // prediction (the LM's prior), keep the thread.
+    bool stray_suspect = !got && lab->dots.count == 4;
+    if (got && lab->dots.count == 4) {
+      h.ssr4 = 4.0 * got->second * got->second;
+      // Within the fit gate but not within the pixel noise: one of the four
+      // may be a stray taken for an LED (integer pixels fit to ~0.3 px; a
+      // stray that lands where the gate lets it in is off by pixels). Which
+      // one only a prediction with a known spread can say: the eskf's (two
+      // noisy poses' difference would pick a wrong P3P root as often).
+      stray_suspect = noise_known && spread && h.ssr4 > kChi2TwoDof999 * var;
+    }
+    if (stray_suspect) {
+      // The three that keep the thread are those whose pose is nearest the
+      // prediction: three dots always fit exactly, so their fit says nothing,
+      // but a stray among them pulls the pose away from where the head is.
+      // The four-dot pose stays a candidate: noise alone puts one fit in a
+      // thousand beyond the bound, and then no stray pulls it off the track.
+      std::optional<std::pair<Pose, double>> best3 = got;
+      std::optional<Labelling> best_lab;
+      if (got) best_lab = *lab;
+      double best_off = got ? off(got->first) : 0.0;
       for (size_t drop = 0; drop < kSlots; ++drop) {
         if (lab->slot_led[drop] < 0) continue;
         Labelling three;
@@ -140,13 +226,67 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
             three.slot_led[s] = lab->slot_led[s];
             three.dots.add(lab->slot_led[s], *frame.slots[s]);
           }
-        if (auto g = fit(three); g && (!got || g->second < got->second)) {
-          got = g;
-          *lab = three;
+        if (auto g = fit(three)) {
+          const double d = off(g->first);
+          if (!best3 || d < best_off) {
+            best3 = g;
+            best_lab = three;
+            best_off = d;
+          }
         }
+      }
+      if (best3 && best_lab) {
+        got = best3;
+        lab = best_lab;
       }
     }
     if (!got) continue;
+    if (lab->dots.count == 3 && spread) {
+      // Three dots fit up to four poses exactly. Take the P3P root most
+      // likely given the prediction; when another is about as likely, the
+      // frame cannot say which the head is in: follow it, but do not give
+      // it out as tracked (a held or predicted pose is better than a flip).
+      std::array<Vec3, 3> bearings, pts;
+      for (size_t i = 0; i < 3; ++i) {
+        bearings[i] = cam_.bearing(lab->dots.items[i].pixel);
+        pts[i] = model_.leds_mm[static_cast<size_t>(lab->dots.items[i].led)];
+      }
+      const P3PSolutions roots = p3p_lambda_twist(bearings, pts);
+      double m_best = INFINITY, m_rival = INFINITY;
+      const Pose* best_root = nullptr;
+      for (int k = 0; k < roots.count; ++k) {
+        const Pose& p = roots.poses[static_cast<size_t>(k)];
+        if (!p.finite() || !leds_face_camera(p, model_, lab->dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
+          continue;
+        bool dup = false;  // a double root reached twice
+        for (int j = 0; j < k; ++j) dup = dup || pose_distance(p, roots.poses[static_cast<size_t>(j)]) < 0.02;
+        if (dup) continue;
+        const double m = off(p);
+        if (m < m_best) {
+          m_rival = m_best;
+          m_best = m;
+          best_root = &p;
+        } else {
+          m_rival = std::min(m_rival, m);
+        }
+      }
+      // LM (a MAP estimate with the prediction as prior) starts from the root
+      // nearest the prediction in plain distance; when the spread puts
+      // another root nearer, the MAP estimate is sought from that one.
+      const Pose* lm_root = nullptr;
+      for (int k = 0; k < roots.count; ++k)
+        if (!lm_root || pose_distance(roots.poses[static_cast<size_t>(k)], got->first) < pose_distance(*lm_root, got->first))
+          lm_root = &roots.poses[static_cast<size_t>(k)];
+      if (best_root && lm_root && pose_distance(*best_root, *lm_root) > 0.02) {
+        const PosePrior prior{pred};
+        const LmResult r3 = refine_pose_lm(*best_root, lab->dots.view(), cam_, model_, LmOptions{}, &prior);
+        got->first = r3.pose.finite() ? r3.pose : *best_root;
+      }
+      // Ambiguous too when even the likeliest root is one no head motion
+      // explains (the eskf's own outlier bound): two LEDs and a stray, or
+      // labels gone wrong.
+      h.ambiguous = !(m_rival - m_best > kAmbiguousChi2Gap);
+    }
     const auto& [pose, rms] = *got;
     h.pose = pose;
     h.cv.observe(pose, frame.t);
@@ -165,11 +305,20 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
 
   // Four dots seen but every hypothesis explains only three (calling the
   // fourth a stray): a labelling that explains all four wins if one exists.
+  // Once the pixel noise is known, a labelling of four dots must fit within
+  // it, not only within the fit gate: three LEDs and a stray fit some pose of
+  // a near-planar beacon to a few pixels far more often than to the noise.
   const bool all_partial = std::none_of(hyps_.begin(), hyps_.end(), [](const Hypothesis& h) { return h.dots >= 4; });
-  if (!hyps_.empty() && visible >= 4 && all_partial && !labeller_.acquire(frame, 1).empty()) hyps_.clear();
+  std::vector<Labelling> acquired;
+  if (visible >= 4 && (hyps_.empty() || all_partial)) {
+    acquired = labeller_.acquire(frame);
+    if (noise_known)
+      std::erase_if(acquired, [&](const Labelling& l) { return 4.0 * l.rms_px * l.rms_px > kChi2TwoDof999 * var; });
+  }
+  if (!hyps_.empty() && all_partial && !acquired.empty()) hyps_.clear();
 
   if (hyps_.empty() && visible >= 4) {
-    for (const auto& l : labeller_.acquire(frame)) {
+    for (const auto& l : acquired) {
       Hypothesis h;
       h.pose = l.pose;
       h.cv.observe(l.pose, frame.t);
@@ -179,6 +328,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       h.dots = l.dots.count;
       h.slot_led = l.slot_led;
       h.id = ++next_hyp_id_;
+      h.ssr4 = 4.0 * l.rms_px * l.rms_px;
       hyps_.push_back(h);
     }
     if (!hyps_.empty()) {
@@ -234,6 +384,16 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   const Hypothesis* best = nullptr;
   for (const auto& h : hyps_)
     if (h.dots > 0 && (!best || h.cost_sum < best->cost_sum)) best = &h;
+  // A 4-dot fit feeds the pixel noise estimate even when its fourth dot was
+  // judged a stray, so that a rig whose model is off by a millimetre or two
+  // learns its larger residuals instead of calling every fourth dot a stray;
+  // capped at the test's own bound, so a stray moves it by little.
+  if (best && best->ssr4 >= 0.0) {
+    pixel_noise_.add(noise_known ? std::min(best->ssr4, kChi2TwoDof999 * var) : best->ssr4, 4);
+    ++noise_samples_;
+  }
+  // A 3-dot frame whose P3P roots motion cannot tell apart is not given out.
+  if (best && best->ambiguous) best = nullptr;
   if (best) {
     r.state = PoseState::tracking;
     r.raw_pose = best->pose;
@@ -256,7 +416,8 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
 TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
-    pixel_noise_.add(r.rms_px * r.rms_px * r.dots_used, r.dots_used);  // every filter: it sets the fit gate
+    if (cfg_.method == SolverMethod::thesis)  // the LM path adds its own in process_lm
+      pixel_noise_.add(r.rms_px * r.rms_px * r.dots_used, r.dots_used);
     last_solve_t_ = r.t;
     last_raw_ = r.raw_pose;
     switch (cfg_.filter) {

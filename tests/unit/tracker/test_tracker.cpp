@@ -130,3 +130,30 @@ TEST(DotTracker, AnotherBeaconAndFocalLength) {
   EXPECT_LT(w.acc4.rotation_deg().rms, 1.5);
   EXPECT_GT(static_cast<double>(w.tracked3) / static_cast<double>(w.frames3), 0.98);
 }
+
+namespace {
+/// tracker_motion's second beacon: wider than the thesis's, one LED on a
+/// 50 mm post toward the camera.
+LedModel second_beacon() {
+  LedModel m;
+  m.leds_mm = {Vec3(75.0, 10.0, 0.0), Vec3(-75.0, 10.0, 0.0), Vec3(0.0, -60.0, 10.0), Vec3(0.0, 45.0, -50.0)};
+  return m;
+}
+}  // namespace
+
+TEST(DotTracker, ThreeLedsAndAStrayNeverReplaceTheTrack) {
+  // A mixed listener walk with dropouts and strays (seed 3, 10 s): twice a
+  // stray and three LEDs fitted a labelling of all four dots to 1.5-3.5 px,
+  // which replaced the 3-dot track and flipped the pose by 44 and 147 deg.
+  SimulatorConfig s;
+  s.motion = MotionProfile::mixed;
+  s.seed = 3;
+  s.dropout_rate = 0.01;
+  s.stray_rate = 0.02;
+  TrackerConfig t;
+  t.filter = FilterKind::eskf;
+  const auto w = walk(t, s, 1000, Camera::with_focal(1350), second_beacon());
+  EXPECT_EQ(w.nan, 0);
+  EXPECT_EQ(w.flips, 0);
+  EXPECT_GE(static_cast<double>(w.tracked3) / static_cast<double>(w.frames3), 0.99);
+}

@@ -8,6 +8,15 @@
 // hypothesis that fits, frame by frame from its own prediction, and keeps the
 // one whose reprojection error stays lowest; it never switches between them
 // while tracking, so the pose does not flip.
+//
+// Strays and the roots of three dots are judged by the noise the tracker has
+// learnt and by the eskf's prediction with its covariance, not by fixed
+// pixel gates: a labelling of four dots must fit within the pixel noise
+// (chi-square, 2 degrees of freedom), else the three of them nearest the
+// prediction carry the pose; a 3-dot frame takes the P3P root most likely
+// given the prediction, and when a second root is about as likely (within
+// 100 : 1) the frame is followed but not given out as tracked: a held or
+// predicted pose is better than a flip.
 #pragma once
 
 #include <memory>
@@ -79,6 +88,9 @@ class DotTracker {
   TrackResult process_lm(const DotFrame& frame);
   TrackResult process_thesis(const DotFrame& frame);
   TrackResult finish(TrackResult r, const DotFrame& frame);
+  /// Covariance of the eskf's predicted pose at time t (rotation rad,
+  /// translation mm); nullopt before the filter has a state.
+  [[nodiscard]] std::optional<Mat6> prediction_spread(double t) const;
 
   Camera cam_;
   LedModel model_;
@@ -94,6 +106,7 @@ class DotTracker {
   std::array<int, kSlots> output_slot_led_{-1, -1, -1, -1};
   int last_eskf_dots_ = 4;  ///< dots behind the eskf's last measurement
   PixelNoiseEstimator pixel_noise_;
+  long noise_samples_ = 0;  ///< 4-dot fits the pixel noise estimate has seen
   ConstantVelocity cv_;
   std::optional<Pose> last_output_;
   std::optional<Pose> last_raw_;

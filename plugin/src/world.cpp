@@ -1,6 +1,7 @@
 #include "world.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <exception>
@@ -326,8 +327,16 @@ void World::render(float* left, float* right) {
   head.orientation = s.head_orientation;
   if (tracker_on_.load(std::memory_order_acquire)) {
     if (auto p = tracker_slot_.try_load()) tracked_ = *p;
-    head.position = tracked_.position;
-    head.orientation = tracked_.orientation;
+    // Carried on to when this block is heard (the pose is a camera frame,
+    // the tracker and this buffer old by then). Reading steady_clock is a
+    // vDSO read, not a system call; extrapolate is arithmetic.
+    const HeadPose heard =
+        predict_head_.load(std::memory_order_relaxed)
+            ? extrapolate(tracked_, std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() +
+                                        output_latency_s())
+            : tracked_;
+    head.position = heard.position;
+    head.orientation = heard.orientation;
   }
   adopt_new_renderer();
   audio::ListenerState l = s.listener;

@@ -22,8 +22,10 @@
 // so the audio thread never reads freed memory.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -139,6 +141,22 @@ class World {
   // ---- any thread ----
   [[nodiscard]] HeadPose head_pose() const { return used_pose_.load(); }
 
+  /// Head prediction (on by default): each block turns the head to where the
+  /// tracker's pose, carried on at the filter's velocities, will be when the
+  /// block is heard: now + one block + `host_latency_s` (the host's own
+  /// output latency, 0 when it does not say), at most
+  /// kMaxHeadPredictionS ahead of the pose (head_pose.hpp). Any thread.
+  void set_head_prediction(bool on, double host_latency_s) {
+    host_latency_s_.store(std::isfinite(host_latency_s) ? std::max(0.0, host_latency_s) : 0.0, std::memory_order_relaxed);
+    predict_head_.store(on, std::memory_order_relaxed);
+  }
+  [[nodiscard]] bool head_prediction() const { return predict_head_.load(std::memory_order_relaxed); }
+  /// Seconds from a block's start to when it is heard (what the prediction adds to now).
+  [[nodiscard]] double output_latency_s() const {
+    return static_cast<double>(params_.block_size) / static_cast<double>(params_.sample_rate) +
+           host_latency_s_.load(std::memory_order_relaxed);
+  }
+
   // ---- audio thread ----
   /// False when another render is running.
   [[nodiscard]] bool begin_render() {
@@ -219,6 +237,8 @@ class World {
   // tracking
   PoseSlot tracker_slot_;
   std::atomic<bool> tracker_on_{false};
+  std::atomic<bool> predict_head_{true};
+  std::atomic<double> host_latency_s_{0.0};
   std::unique_ptr<tracker::LiveTracker> tracker_;
   int camera_width_ = 0, camera_height_ = 0;  // the attached source's camera image (0: poses only)
   PoseSlot used_pose_;  // written by the audio thread, read anywhere

@@ -1,6 +1,7 @@
 #include "earshot/tracker/live_pipeline.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -20,6 +21,10 @@ WorldPose interpolate(const WorldPose& a, const WorldPose& b, double u) {
 bool finite(const WorldPose& w) { return w.R.allFinite() && w.p.allFinite(); }
 
 }  // namespace
+
+double steady_clock_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 Mat3 camera_to_audio() { return Vec3(-1.0, -1.0, 1.0).asDiagonal(); }
 
@@ -108,7 +113,25 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
   const Mat3 A = camera_to_audio() * level_;
   const Mat3 rel = head.R * reference_->R.transpose();
   const WorldPose w{A * rel * A.transpose(), A * (head.t - reference_->p) * 1e-3};
-  return good(dots.t, w, r.state);
+  HeadPose h = good(dots.t, w, r.state);
+  // The eskf's velocities, for the audio side to carry the pose on to when
+  // it is heard. World pose A R Rref^T A^T: exp(w dt) R becomes
+  // exp((A w) dt) (A R Rref^T A^T), so the angular velocity turns by A (a
+  // rotation) and the velocity too (mm/s to m/s). Not while blending back in
+  // after a loss (the output is not the filter's state then), nor for tags.
+  if (h.state == PoseState::tracking && !resuming_ && !f.labelled && cfg_.tracker.filter == FilterKind::eskf &&
+      tracker_.eskf().initialised()) {
+    // As the filter has them: shrinking them by its velocity covariance
+    // (the least-squares gain for a noisy velocity) did worse on slow turns
+    // (tests/unit/tracker/test_head_prediction.cpp), the covariance being
+    // ~3x the velocity's actual error.
+    const Vec3 wa = A * tracker_.eskf().angular_velocity(), va = A * tracker_.eskf().velocity() * 1e-3;
+    if (wa.allFinite() && va.allFinite()) {
+      h.angular_velocity = to_common(wa);
+      h.velocity = to_common(va);
+    }
+  }
+  return h;
 }
 
 std::optional<HeadPose> LivePipeline::on_pose(const DirectPose& p) {
@@ -179,6 +202,7 @@ HeadPose LivePipeline::emit(double t, const WorldPose& w, PoseState s) {
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();
   h.orientation = to_common(q);
   h.state = s;
+  h.steady_s = steady_clock_();
   return h;
 }
 

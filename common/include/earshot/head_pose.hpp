@@ -1,6 +1,7 @@
 // The head pose: what the tracker hands the renderer, and all it hands it.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -37,19 +38,61 @@ enum class PoseState : std::uint8_t { searching, tracking, predicted, lost };
 /// Listener head pose in the audio world frame (OpenAL's: +x right, +y up,
 /// -z ahead), metres, unit quaternion (w, x, y, z). Trivially copyable.
 struct HeadPose {
-  double t = 0.0;                                  ///< seconds, tracker clock
-  Vec3 position{0.0, 0.0, 0.0};   ///< metres
+  double t = 0.0;                    ///< seconds, the source's own clock (differs per source)
+  Vec3 position{0.0, 0.0, 0.0};      ///< metres
   Quat orientation = kIdentityQuat;  ///< w, x, y, z
   PoseState state = PoseState::searching;
   std::uint64_t sequence = 0;  ///< increases with every publication
+  /// The head's motion as the tracker's filter estimates it (zero when it
+  /// has none): angular velocity in rad/s in the world frame (a moment dt
+  /// later the orientation is the rotation by angle |w| dt about w, applied
+  /// after `orientation`) and velocity in m/s.
+  Vec3 angular_velocity{0.0, 0.0, 0.0};
+  Vec3 velocity{0.0, 0.0, 0.0};
+  /// When the pose held, on std::chrono::steady_clock (seconds since its
+  /// epoch): the clock the tracker thread and the audio thread share, which
+  /// `t` is not. 0: unknown (the pose is never extrapolated).
+  double steady_s = 0.0;
 
   [[nodiscard]] bool finite() const {
-    for (double v : position)
-      if (!std::isfinite(v)) return false;
+    for (const Vec3* v : {&position, &angular_velocity, &velocity})
+      for (double x : *v)
+        if (!std::isfinite(x)) return false;
     for (double v : orientation)
       if (!std::isfinite(v)) return false;
-    return std::isfinite(t);
+    return std::isfinite(t) && std::isfinite(steady_s);
   }
 };
+
+/// How far ahead the audio side extrapolates a head pose at most: a head
+/// turning at 500 deg/s moves 30 deg in 60 ms, and constant velocity stops
+/// being a fair guess beyond a few tens of milliseconds (a head's quick turns
+/// last ~100-200 ms).
+inline constexpr double kMaxHeadPredictionS = 0.060;
+
+/// `p` carried forward at its own constant angular and linear velocity to
+/// steady-clock time `at_s` (the time the audio block will be heard): on
+/// SO(3) x R3, orientation <- exp(w dt) * orientation, position <- position
+/// + v dt, with dt = at_s - p.steady_s clamped to [0, max_ahead_s]. Only a
+/// pose in the tracking state with a known steady_s is extrapolated; a
+/// predicted, lost or searching one is returned as it is (the tracker is
+/// already bridging a gap or easing). Real-time safe: arithmetic only.
+[[nodiscard]] inline HeadPose extrapolate(const HeadPose& p, double at_s, double max_ahead_s = kMaxHeadPredictionS) {
+  if (p.state != PoseState::tracking || !(p.steady_s > 0.0)) return p;
+  const double dt = std::clamp(at_s - p.steady_s, 0.0, std::max(0.0, max_ahead_s));
+  if (!(dt > 0.0)) return p;
+  HeadPose out = p;
+  for (int i = 0; i < 3; ++i) out.position[i] += p.velocity[i] * dt;
+  const Vec3 half{0.5 * dt * p.angular_velocity[0], 0.5 * dt * p.angular_velocity[1], 0.5 * dt * p.angular_velocity[2]};
+  const double a = norm(half);  // half the angle turned
+  const double s = a > 1e-12 ? std::sin(a) / a : 1.0;
+  const Quat turn{std::cos(a), s * half[0], s * half[1], s * half[2]};
+  Quat q = multiply(turn, p.orientation);
+  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  for (double& c : q) c /= n;
+  out.orientation = q;
+  out.steady_s = p.steady_s + dt;
+  return out;
+}
 
 }  // namespace earshot

@@ -11,6 +11,10 @@
 //                -> audio world frame (OpenAL: +x right, +y up, -z ahead)
 //   direct pose  -> relative to the recenter pose (already in audio axes)
 //
+// Each pose carries the eskf's angular and linear velocity (audio axes) and
+// the steady-clock time it was computed, so the audio side can carry it on
+// to the time its block is heard (earshot::extrapolate, head_pose.hpp).
+//
 // States: searching (no pose since start), tracking, predicted (a short gap
 // bridged by the DotTracker), lost. When tracking is lost the listener pose
 // holds for `hold_s`, then eases to neutral (origin, looking ahead) over
@@ -73,6 +77,9 @@ struct WorldPose {
 /// of the button face; at rest it reads +1 g upward) in the camera frame.
 [[nodiscard]] Vec3 remote_accel_to_camera(const Vec3& accel_remote_g);
 
+/// Seconds since std::chrono::steady_clock's epoch: what HeadPose::steady_s holds.
+[[nodiscard]] double steady_clock_s();
+
 struct PipelineCounters {
   std::uint64_t frames = 0, poses = 0, notes = 0;
   std::uint64_t rejected_dots = 0;  ///< NaN or outside the image: never trusted
@@ -100,6 +107,11 @@ class LivePipeline {
   [[nodiscard]] const Mat3& leveling() const { return level_; }
   [[nodiscard]] const PipelineCounters& counters() const { return counters_; }
   [[nodiscard]] const TrackResult& last_track() const { return last_track_; }
+
+  /// The clock that stamps HeadPose::steady_s on every pose put out (when
+  /// the pose is computed: the frame has just arrived). Tests replace it
+  /// to stay deterministic.
+  void set_steady_clock(double (*clock)()) { steady_clock_ = clock; }
 
  private:
   std::optional<HeadPose> on_frame(const CameraFrame& f);
@@ -129,6 +141,7 @@ class LivePipeline {
   double resume_t_ = 0.0;
   WorldPose resume_from_;
   PipelineCounters counters_;
+  double (*steady_clock_)() = &steady_clock_s;
 };
 
 }  // namespace earshot::tracker

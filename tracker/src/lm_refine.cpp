@@ -10,6 +10,10 @@ namespace {
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Vec6 = Eigen::Matrix<double, 6, 1>;
 
+/// Damping at or below which an LM step is the Gauss-Newton step to within
+/// 0.1 % (the default initial lambda: untouched by rejections).
+constexpr double kUndampedLambda = 1e-3;
+
 /// The problem linearised at one pose: cost, J^T J and J^T r.
 struct Linearised {
   double cost = 0.0;  ///< 0.5 * sum of squared residuals, prior included
@@ -112,8 +116,10 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
         continue;
       }
       const Pose cand{exp_so3(delta.head<3>()) * res.pose.R, res.pose.t + delta.tail<3>()};
-      if (delta.dot(cur.H * delta) <= small2) {
-        // Converged: take the last small step without evaluating it.
+      if (lambda <= kUndampedLambda && delta.dot(cur.H * delta) <= small2) {
+        // Converged: take the last small step without evaluating it. Only
+        // when the damping is negligible: a step made small by a large
+        // lambda (after rejected steps) says nothing about the minimum.
         res.pose = cand;
         res.converged = true;
         improved = true;

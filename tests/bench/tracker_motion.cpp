@@ -3,7 +3,8 @@
 // maximum-likelihood limit. Prints markdown tables for docs/BENCHMARKS.md.
 //
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME]
-//                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses]
+//                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
+//                  [--misses [--flip-log] [--variety]]
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -45,6 +46,14 @@ LedModel second_beacon() {
   return m;
 }
 
+/// A third beacon for the --variety rows: a headband rig, two LEDs at the
+/// temples' width, one high and set back, one low and forward.
+LedModel third_beacon() {
+  LedModel m;
+  m.leds_mm = {Vec3(-60.0, 0.0, 0.0), Vec3(60.0, 0.0, 0.0), Vec3(0.0, 50.0, -20.0), Vec3(0.0, -30.0, 30.0)};
+  return m;
+}
+
 struct Acc {
   AccuracyCollector err;
   long frames3 = 0, tracked3 = 0;
@@ -58,6 +67,7 @@ struct Options {
   double pixel_variance = 0.0;  ///< 0: the tracker estimates it
   bool misses = false;          ///< only the table of untracked frames by cause
   bool flip_log = false;        ///< with --misses: one line per flip event, with its context
+  bool variety = false;         ///< with --misses: the rows of a third beacon and 30 % dropouts instead
 };
 
 LabelledDots true_labels(const DotFrame& f) {
@@ -220,12 +230,19 @@ void misses(const Options& o) {
     double roll_max;
     double dropout, stray;
   };
-  const Walk walks[] = {
+  std::vector<Walk> walks = {
       {"walk", MotionProfile::walk, 40.0, 30.0, 0.0, 0.0},
       {"walk, fast (p50 ~165 deg/s), any roll, 5 % dropouts, strays", MotionProfile::walk, 112.0, 180.0, 0.01, 0.02},
       {"mixed, 5 % dropouts, strays", MotionProfile::mixed, 40.0, 30.0, 0.01, 0.02},
   };
-  const Beacon beacons[] = {{"thesis", LedModel::thesis(), 1280.0}, {"second", second_beacon(), 1350.0}};
+  std::vector<Beacon> beacons = {{"thesis", LedModel::thesis(), 1280.0}, {"second", second_beacon(), 1350.0}};
+  if (o.variety) {
+    // What nothing was tuned on: a third beacon at a short focal length, and
+    // ~30 % of LED frames dropped (a dropout starts with 8 % a frame and
+    // lasts 1-10 frames).
+    walks = {walks[1], {"walk, fast, any roll, 30 % dropouts, strays", MotionProfile::walk, 112.0, 180.0, 0.08, 0.02}};
+    beacons = {{"thesis", LedModel::thesis(), 1280.0}, {"third (f = 900)", third_beacon(), 900.0}};
+  }
   std::printf("\n### Frames with 3+ LEDs seen and not tracked (eskf), by cause; seeds");
   for (auto sd : o.seeds) std::printf(" %llu", static_cast<unsigned long long>(sd));
   std::printf(", %ld frames each\n\n", o.frames);
@@ -359,10 +376,12 @@ int main(int argc, char** argv) {
       o.misses = true;
     } else if (a == "--flip-log") {
       o.flip_log = true;
+    } else if (a == "--variety") {
+      o.variety = true;
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses [--flip-log]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

@@ -16,14 +16,17 @@ namespace {
 // in a 10 ms frame) but not a pose that jumps tens of degrees in one frame.
 constexpr double kMaxScale = 1e3;
 
-/// Error-state transition over dt for the constant-velocity model.
-Mat12 transition(const Mat3& exp_w_dt, double dt) {
+}  // namespace
+
+Mat12 eskf_transition(const Mat3& exp_w_dt, double dt) {
   Mat12 F = Mat12::Identity();
   F.block<3, 3>(0, 0) = exp_w_dt;  // exp(w dt) exp(d) R = exp(exp(w dt) d) exp(w dt) R
   F.block<3, 3>(0, 6) = dt * Mat3::Identity();
   F.block<3, 3>(3, 9) = dt * Mat3::Identity();
   return F;
 }
+
+namespace {
 
 /// F P F^T for the transition above without the dense 12x12 products: F is
 /// the identity but for the rotation block and two dt blocks.
@@ -118,7 +121,8 @@ void PoseEskf::start(const Pose& z, const Mat6& cov, double t) {
   step_.w_pred = step_.w_upd = w_;
   step_.v_pred = step_.v_upd = v_;
   step_.P_pred = step_.P_upd = P_;
-  step_.F = Mat12::Identity();
+  step_.rotation = Mat3::Identity();
+  step_.dt = 0.0;
   step_.restart = true;
 }
 
@@ -162,7 +166,8 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   step_.w_pred = w_;
   step_.v_pred = v_;
   step_.P_pred = P_pred;
-  step_.F = transition(A, dt);
+  step_.rotation = A;
+  step_.dt = dt;
   step_.restart = false;
 
   if (!(nis <= p_.outlier_chi2)) {  // no head motion explains it: skip the measurement
@@ -227,7 +232,7 @@ std::optional<Pose> PoseEskf::predict(double t) const {
 void RtsSmoother::add(const EskfStep& step) {
   if (!nodes_.empty() && !step.restart) {
     // C = P_upd(k) F^T P_pred(k+1)^-1, the gain from step k+1 back to k.
-    const Mat12 C = last_P_upd_ * step.F.transpose() * sym_inverse<12>(step.P_pred);
+    const Mat12 C = last_P_upd_ * eskf_transition(step.rotation, step.dt).transpose() * sym_inverse<12>(step.P_pred);
     nodes_.back().gain = C.cast<float>();
   }
   Node n;

@@ -17,8 +17,8 @@ constexpr double kUndampedLambda = 1e-3;
 /// The problem linearised at one pose: cost, J^T J and J^T r.
 struct Linearised {
   double cost = 0.0;  ///< 0.5 * sum of squared residuals, prior included
-  Mat6 jtj_dots;      ///< J^T J of the reprojection residuals alone
-  Mat6 H;             ///< J^T J with the prior's
+  Mat6 jtj_dots;      ///< J^T J of the reprojection residuals alone (lower triangle)
+  Mat6 H;             ///< J^T J with the prior's (lower triangle)
   Vec6 g;             ///< J^T r
 };
 
@@ -41,13 +41,15 @@ bool linearise(const Pose& p, std::span<const Correspondence> dots, const Camera
     // row^T * -[R X]x.
     const Vec3 a(cam.fx * iz, 0.0, -cam.fx * x * iz);
     const Vec3 b(0.0, cam.fy * iz, -cam.fy * y * iz);
-    Eigen::Matrix<double, 2, 6> J;
-    J.block<1, 3>(0, 0) = RX.cross(a).transpose();
-    J.block<1, 3>(0, 3) = a.transpose();
-    J.block<1, 3>(1, 0) = RX.cross(b).transpose();
-    J.block<1, 3>(1, 3) = b.transpose();
-    H.noalias() += J.transpose() * J;
-    g.noalias() += J.transpose() * r;
+    Vec6 ja, jb;  // the two rows of J
+    ja << RX.cross(a), a;
+    jb << RX.cross(b), b;
+    // J^T J's lower triangle only (all the Cholesky reads): 21 entries.
+#pragma GCC unroll 6
+    for (int k = 0; k < 6; ++k)
+#pragma GCC unroll 6
+      for (int i = k; i < 6; ++i) H(i, k) += ja(i) * ja(k) + jb(i) * jb(k);
+    g += r.x() * ja + r.y() * jb;
     c += r.squaredNorm();
   }
   out.jtj_dots = H;
@@ -95,7 +97,10 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
   }
   res.cost = cur.cost;
   res.jtj = cur.jtj_dots;
-  if (dots.size() < 3) return res;
+  if (dots.size() < 3) {
+    res.jtj.triangularView<Eigen::StrictlyUpper>() = res.jtj.transpose();
+    return res;
+  }
 
   // A step is small when it moves the dots by under the tolerance: its
   // predicted change of the residuals, delta^T H delta, against n tol^2.
@@ -116,7 +121,7 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
         continue;
       }
       const Pose cand{exp_so3(delta.head<3>()) * res.pose.R, res.pose.t + delta.tail<3>()};
-      if (lambda <= kUndampedLambda && delta.dot(cur.H * delta) <= small2) {
+      if (lambda <= kUndampedLambda && delta.dot(cur.H.selfadjointView<Eigen::Lower>() * delta) <= small2) {
         // Converged: take the last small step without evaluating it. Only
         // when the damping is negligible: a step made small by a large
         // lambda (after rejected steps) says nothing about the minimum.
@@ -141,6 +146,7 @@ LmResult refine_pose_lm(const Pose& initial, std::span<const Correspondence> dot
       break;
     }
   }
+  res.jtj.triangularView<Eigen::StrictlyUpper>() = res.jtj.transpose();
   // Keep R exactly orthonormal after many small multiplications.
   const Quat q(res.pose.R);
   res.pose.R = q.normalized().toRotationMatrix();

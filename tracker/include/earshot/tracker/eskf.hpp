@@ -85,13 +85,21 @@ class PixelNoiseEstimator {
   long n_ = 0;
 };
 
+/// The eskf's 12 x 12 error-state transition over dt for the constant-
+/// velocity model, its rotation block `rotation` = exp(w dt).
+[[nodiscard]] Mat12 eskf_transition(const Mat3& rotation, double dt);
+
 /// One filter step, kept for the RTS smoother.
 struct EskfStep {
   double t = 0.0;
   Pose pose_pred, pose_upd;
   Vec3 w_pred = Vec3::Zero(), v_pred = Vec3::Zero(), w_upd = Vec3::Zero(), v_upd = Vec3::Zero();
   Mat12 P_pred = Mat12::Zero(), P_upd = Mat12::Zero();
-  Mat12 F = Mat12::Identity();         ///< error-state transition from the previous step to this one
+  /// The error-state transition from the previous step to this one is
+  /// eskf_transition(rotation, dt): kept as its two parameters, not formed
+  /// each frame.
+  Mat3 rotation = Mat3::Identity();    ///< exp(w dt) over the step
+  double dt = 0.0;
   bool restart = false;  ///< the filter (re)started here: no link to the previous step
 };
 

@@ -229,6 +229,17 @@ std::optional<Pose> PoseEskf::predict(double t) const {
   return Pose{exp_so3(w_ * dt) * x_.R, x_.t + v_ * dt};
 }
 
+std::optional<Mat6> PoseEskf::predicted_pose_covariance(double t) const {
+  if (!have_) return std::nullopt;
+  const double dt = std::max(0.0, t - t_);
+  const Mat6 Pxv = P_.block<6, 6>(0, 6);
+  Mat6 S = P_.topLeftCorner<6, 6>() + dt * (Pxv + Pxv.transpose()) + (dt * dt) * P_.bottomRightCorner<6, 6>();
+  const double dt3 = dt * dt * dt / 3.0;
+  S.diagonal().head<3>().array() += p_.angular_accel_psd * dt3;
+  S.diagonal().tail<3>().array() += p_.linear_accel_psd * dt3;
+  return S;
+}
+
 void RtsSmoother::add(const EskfStep& step) {
   if (!nodes_.empty() && !step.restart) {
     // C = P_upd(k) F^T P_pred(k+1)^-1, the gain from step k+1 back to k.

@@ -112,6 +112,12 @@ class PoseEskf {
   Pose update(const Pose& z, const Mat6& cov, double t);
   /// The pose predicted to time t (>= the last update) by the motion model.
   [[nodiscard]] std::optional<Pose> predict(double t) const;
+  /// The covariance of that pose (rotation rad, translation mm): the pose
+  /// block of F P F^T + Q over dt = t - the last update, in fixed-size 6x6
+  /// blocks, P_xx + dt (P_xv + P_vx) + dt^2 P_vv + q dt^3 / 3 (the rotation
+  /// block of F is exp(w dt) ~ I to first order, as a gate wants it);
+  /// nullopt before the first update.
+  [[nodiscard]] std::optional<Mat6> predicted_pose_covariance(double t) const;
   void reset() { have_ = false; }
 
   [[nodiscard]] bool initialised() const { return have_; }

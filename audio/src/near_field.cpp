@@ -1,6 +1,7 @@
 #include "earshot/audio/near_field.hpp"
 
 #include "earshot/audio/real_fft.hpp"
+#include "earshot/audio/spectral_kernels.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -225,8 +226,6 @@ bool NearFieldTable::taps(std::size_t shell, double r, double theta, std::span<f
 
 NearFieldFilter::NearFieldFilter(std::size_t block) : block_(block) {
   line_.assign(NearFieldTable::kTaps - 1 + block, 0.0f);
-  from_out_.assign(block, 0.0f);
-  to_out_.assign(block, 0.0f);
   from_[0] = 1.0f;
 }
 
@@ -236,20 +235,6 @@ void NearFieldFilter::reset() {
   from_[0] = 1.0f;
   from_unity_ = true;
 }
-
-namespace {
-/// y[i] = sum_k h[k] x[i - k] for i < n, with x[-k] readable: taps outermost,
-/// so the inner loop runs along the samples and vectorises.
-void convolve(const float* h, const float* x, float* y, std::size_t n) {
-  std::fill_n(y, n, 0.0f);
-  for (std::size_t k = 0; k < NearFieldTable::kTaps; ++k) {
-    const float hk = h[k];
-    if (hk == 0.0f) continue;
-    const float* xk = x - k;
-    for (std::size_t i = 0; i < n; ++i) y[i] += hk * xk[i];
-  }
-}
-}  // namespace
 
 void NearFieldFilter::process(std::span<float> x, std::span<const float> taps) {
   constexpr std::size_t T = NearFieldTable::kTaps;
@@ -263,18 +248,10 @@ void NearFieldFilter::process(std::span<float> x, std::span<const float> taps) {
     std::copy_n(taps.data(), T, to_.data());
   }
   if (!(from_unity_ && to_unity)) {
-    const float* in = line_.data() + T - 1;  // in[i - k] is x[i - k]
-    convolve(from_.data(), in, from_out_.data(), B);
-    if (std::memcmp(from_.data(), to_.data(), sizeof(float) * T) == 0) {
-      std::copy_n(from_out_.data(), B, x.data());
-    } else {
-      convolve(to_.data(), in, to_out_.data(), B);
-      const float step = 1.0f / static_cast<float>(B);
-      for (std::size_t i = 0; i < B; ++i) {
-        const float r = static_cast<float>(i + 1) * step;
-        x[i] = from_out_[i] + r * (to_out_[i] - from_out_[i]);
-      }
-    }
+    // One pass gives both ends' outputs and the glide between them (the
+    // same taps at both ends when the source did not move).
+    const bool same = std::memcmp(from_.data(), to_.data(), sizeof(float) * T) == 0;
+    kernels::fir_glide(from_.data(), same ? from_.data() : to_.data(), T, line_.data() + T - 1, x.data(), B);
   }
   std::copy_n(line_.data() + B, T - 1, line_.data());
   from_ = to_;

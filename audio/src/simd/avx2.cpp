@@ -169,7 +169,7 @@ void real_spectrum(const std::complex<float>* zc, std::size_t M, const float* __
 
 constinit const Kernels avx2_kernels{
     Isa::avx2, multiply_add, multiply_add_scaled, add_shaped, to_planar, to_planar_odd_negated, to_interleaved,
-    real_spectrum, glide,
+    real_spectrum, glide, fir_glide,
 };
 
 }  // namespace earshot::audio::simd

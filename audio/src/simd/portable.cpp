@@ -34,7 +34,7 @@ void glide(const Glide& g, float* out, std::size_t n) {
 
 constinit const Kernels portable_kernels{
     Isa::portable, multiply_add, multiply_add_scaled, add_shaped, to_planar, to_planar_odd_negated, to_interleaved,
-    real_spectrum, glide,
+    real_spectrum, glide, fir_glide,
 };
 
 }  // namespace earshot::audio::simd

@@ -35,6 +35,56 @@ void multiply_add_scaled(const float* __restrict x, const std::int16_t* __restri
   }
 }
 
+/// Outputs in groups of kFirGroup held in registers across all the taps (the
+/// taps-outer loop it replaces loaded and stored the block once per tap),
+/// both filters from the same loads of x.
+constexpr std::size_t kFirGroup = 32;
+
+void fir_glide(const float* h0, const float* h1, std::size_t T, const float* __restrict x,
+               float* __restrict y, std::size_t n) {
+  if (h0 == h1) {  // one filter: half the work
+    for (std::size_t i0 = 0; i0 < n; i0 += kFirGroup) {
+      const std::size_t m = n - i0 < kFirGroup ? n - i0 : kFirGroup;
+      float a[kFirGroup] = {};
+      for (std::size_t k = 0; k < T; ++k) {
+        const float g = h0[k];
+        const float* xk = x + i0 - k;
+        for (std::size_t j = 0; j < m; ++j) a[j] += g * xk[j];
+      }
+      for (std::size_t j = 0; j < m; ++j) y[i0 + j] = a[j];
+    }
+    return;
+  }
+  const float step = 1.0f / static_cast<float>(n);
+  for (std::size_t i0 = 0; i0 < n; i0 += kFirGroup) {
+    const std::size_t m = n - i0 < kFirGroup ? n - i0 : kFirGroup;
+    float a[kFirGroup] = {}, b[kFirGroup] = {};
+    if (m == kFirGroup) {
+      for (std::size_t k = 0; k < T; ++k) {
+        const float g0 = h0[k], g1 = h1[k];
+        const float* xk = x + i0 - k;
+        for (std::size_t j = 0; j < kFirGroup; ++j) {
+          a[j] += g0 * xk[j];
+          b[j] += g1 * xk[j];
+        }
+      }
+    } else {
+      for (std::size_t k = 0; k < T; ++k) {
+        const float g0 = h0[k], g1 = h1[k];
+        const float* xk = x + i0 - k;
+        for (std::size_t j = 0; j < m; ++j) {
+          a[j] += g0 * xk[j];
+          b[j] += g1 * xk[j];
+        }
+      }
+    }
+    for (std::size_t j = 0; j < m; ++j) {
+      const float r = static_cast<float>(i0 + j + 1) * step;
+      y[i0 + j] = a[j] + r * (b[j] - a[j]);
+    }
+  }
+}
+
 void add_shaped(const float* __restrict x, float c0, float c1, float c2, const float* __restrict r,
                 const float* __restrict r2, float* __restrict out, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) out[i] += (c0 + c1 * r[i] + c2 * r2[i]) * x[i];

@@ -294,6 +294,31 @@ TEST(SpectralKernels, AddShapedAddsTheSignalUnderTheGainCurve) {
   }
 }
 
+TEST(SpectralKernels, FirGlideIsBothFiltersCrossfadedAcrossTheBlock) {
+  const std::size_t T = 64;
+  const auto h0 = noise(T, 40), h1 = noise(T, 41);
+  for (const std::size_t n : {std::size_t{128}, std::size_t{100}, std::size_t{7}}) {  // whole groups and remainders
+    const auto line = noise(T - 1 + n, 42);
+    const float* x = line.data() + T - 1;  // x[i - k] readable for k < T
+    for (const auto isa : runnable_isas())
+      for (const bool same : {false, true}) {
+        const float* g1 = same ? h0.data() : h1.data();
+        std::vector<float> y(n, 99.0f);
+        simd::kernels(isa).fir_glide(h0.data(), g1, T, x, y.data(), n);
+        for (std::size_t i = 0; i < n; ++i) {
+          double a = 0.0, b = 0.0;
+          for (std::size_t k = 0; k < T; ++k) {
+            a += double(h0[k]) * x[static_cast<std::ptrdiff_t>(i) - static_cast<std::ptrdiff_t>(k)];
+            b += double(g1[k]) * x[static_cast<std::ptrdiff_t>(i) - static_cast<std::ptrdiff_t>(k)];
+          }
+          const double r = double(i + 1) / double(n);
+          ASSERT_NEAR(y[i], a + r * (b - a), 2e-5) << simd::name(isa) << " n " << n << " sample " << i
+                                                    << (same ? " (one filter)" : "");
+        }
+      }
+  }
+}
+
 TEST(SpectralKernels, LayoutChangesMoveEveryValueExactly) {
   const std::size_t n = 129, S = 136;  // 256-point spectra: 129 bins padded to 136
   const auto v = noise(2 * n, 38);

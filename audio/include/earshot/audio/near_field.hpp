@@ -117,7 +117,6 @@ class NearFieldFilter {
   std::array<float, NearFieldTable::kTaps> from_{}, to_{};
   bool from_unity_ = true;
   AlignedVector<float> line_;  // kTaps - 1 past inputs, then the block
-  AlignedVector<float> from_out_, to_out_;  // the block through each end's taps
 };
 
 }  // namespace earshot::audio

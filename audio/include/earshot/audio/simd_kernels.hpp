@@ -43,6 +43,10 @@ struct Kernels {
                         const float* sign, float* out, std::size_t S);
   /// FractionalDelay's read at a moving delay: n samples of the walk g.
   void (*glide)(const Glide& g, float* out, std::size_t n);
+  /// y[i] = a[i] + (i + 1) / n (b[i] - a[i]) with a = h0 * x and b = h1 * x,
+  /// T-tap FIRs (x[i - k] readable for k < T): the near-field filter
+  /// gliding from one block's taps to the next (near_field.hpp).
+  void (*fir_glide)(const float* h0, const float* h1, std::size_t T, const float* x, float* y, std::size_t n);
 };
 
 /// Whether this build has the instruction set's kernels and this CPU (and

@@ -24,6 +24,13 @@ inline void multiply_add_scaled(const float* x, const std::int16_t* h, float sca
   simd::kernels().multiply_add_scaled(x, h, scale, acc, S);
 }
 
+/// y[i] = a[i] + (i + 1) / n (b[i] - a[i]), a = h0 * x, b = h1 * x (T-tap
+/// FIRs; x[i - k] readable for k < T; h1 may equal h0). n need not be a
+/// multiple of 8.
+inline void fir_glide(const float* h0, const float* h1, std::size_t T, const float* x, float* y, std::size_t n) {
+  simd::kernels().fir_glide(h0, h1, T, x, y, n);
+}
+
 /// out += (c0 + c1 r[i] + c2 r2[i]) * x[i] over n samples, r2 = r^2 (a gain
 /// curve across a block; n need not be a multiple of 8).
 inline void add_shaped(const float* x, float c0, float c1, float c2, const float* r, const float* r2, float* out,

@@ -10,12 +10,14 @@
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
 //                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
-//                     [--hrtf FILE.sofa]
+//                     [--hrtf FILE.sofa] [--no-near-field]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
 // by other load on the machine). --still keeps every source at its start
 // (positions still set every block): the cost without filter updates.
+// --no-near-field turns Earshot's near field off (the paths pass within the
+// default set's 1.4 m shell, where it runs): what it costs.
 // --stop-below: a renderer is not run at larger N once its RTF fell below.
 #include <time.h>
 
@@ -87,6 +89,7 @@ double source_gain(int n) { return 0.5 / std::sqrt(double(n)); }  // keeps the m
 struct Budget {
   double seconds, min_cpu;
   bool still;  // sources stay at their t = 0 positions
+  bool near_field = true;  // Earshot's near field (sources nearer than the set's shell)
 };
 
 /// Realtime factor of Earshot's Renderer with n moving sources.
@@ -96,6 +99,7 @@ double run_earshot(int n, const Budget& budget, const std::shared_ptr<const ears
   cfg.sample_rate = kRate;
   cfg.block = kBlock;
   cfg.max_sources = std::size_t(n);
+  cfg.near_field = budget.near_field;
   earshot::audio::Renderer r(hrtf, cfg);
   const std::vector<Path> path = paths(n);
   std::vector<int> ids;
@@ -226,6 +230,7 @@ int main(int argc, char** argv) {
   app.add_option("--min-cpu", budget.min_cpu, "least CPU seconds per measurement")->check(CLI::Range(0.0, 600.0));
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
+  app.add_flag("!--no-near-field", budget.near_field, "Earshot without its near field (what it costs)");
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
   std::string only = "both", csv_path, hrtf_path;
   app.add_option("--hrtf", hrtf_path, "Earshot's SOFA set (default: MIT KEMAR); OpenAL Soft keeps its own");

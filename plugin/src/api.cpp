@@ -325,6 +325,18 @@ ES_API const char* esGetErrorMessage(ESworld h) {
 
 ES_API ESenum esWorldi(ESworld h, ESenum param, ESint value) {
   return control(h, "esWorldi", [&](World& w) -> ESenum {
+    if (param == ES_HEAD_PREDICTION) {
+      if (value != ES_TRUE && value != ES_FALSE)
+        return fail(w, ES_INVALID_VALUE, "esWorldi: ES_HEAD_PREDICTION takes ES_TRUE or ES_FALSE");
+      w.set_head_prediction(value == ES_TRUE, w.host_latency_s());
+      return ES_OK;
+    }
+    if (param == ES_OUTPUT_LATENCY_US) {
+      if (value < 0 || value > 1000000)
+        return fail(w, ES_INVALID_VALUE, "esWorldi: ES_OUTPUT_LATENCY_US must be 0..1000000 microseconds");
+      w.set_head_prediction(w.head_prediction(), static_cast<double>(value) * 1e-6);
+      return ES_OK;
+    }
     if (param != ES_COMMIT_MODE) return bad_enum(w, "esWorldi", param);
     if (value != ES_IMMEDIATE && value != ES_DEFERRED)
       return fail(w, ES_INVALID_VALUE, "esWorldi: ES_COMMIT_MODE takes ES_IMMEDIATE or ES_DEFERRED");
@@ -346,6 +358,8 @@ ES_API ESenum esGetWorldi(ESworld h, ESenum param, ESint* value) {
       case ES_BLOCKS_RENDERED:
         *value = static_cast<ESint>(std::min<std::uint64_t>(w.blocks_rendered(), 0x7FFFFFFF));
         return ES_OK;
+      case ES_HEAD_PREDICTION: *value = w.head_prediction() ? ES_TRUE : ES_FALSE; return ES_OK;
+      case ES_OUTPUT_LATENCY_US: *value = static_cast<ESint>(std::lround(w.host_latency_s() * 1e6)); return ES_OK;
       default: return bad_enum(w, "esGetWorldi", param);
     }
   });

@@ -151,6 +151,7 @@ class World {
     predict_head_.store(on, std::memory_order_relaxed);
   }
   [[nodiscard]] bool head_prediction() const { return predict_head_.load(std::memory_order_relaxed); }
+  [[nodiscard]] double host_latency_s() const { return host_latency_s_.load(std::memory_order_relaxed); }
   /// Seconds from a block's start to when it is heard (what the prediction adds to now).
   [[nodiscard]] double output_latency_s() const {
     return static_cast<double>(params_.block_size) / static_cast<double>(params_.sample_rate) +

@@ -133,6 +133,16 @@ typedef struct ESworldparams {
 #define ES_BLOCK_SIZE 0x4005    /* get only */
 #define ES_MAX_SOURCES 0x4006   /* get only */
 #define ES_BLOCKS_RENDERED 0x4007 /* get only: esRender calls that rendered */
+/* Head prediction: while a tracker attached with esAttachTracker is
+ * tracking, each block turns the head to where the tracked pose, carried on
+ * at the filter's velocities, will be when the block is heard: one block
+ * plus ES_OUTPUT_LATENCY_US after esRender starts (at most 60 ms ahead;
+ * poses from esSetHeadPose and from sources without the filter's velocities
+ * are used as they are). */
+#define ES_HEAD_PREDICTION 0x4008  /* ES_TRUE (default) or ES_FALSE */
+#define ES_OUTPUT_LATENCY_US 0x4009 /* the host's output latency beyond the
+                                     * block, microseconds, 0..1000000;
+                                     * default 0 */
 
 /* ---- Listener (esListener*) ------------------------------------------- */
 #define ES_POSITION 0x1004      /* 3 floats, metres (listener and source) */

@@ -660,6 +660,32 @@ TEST(PluginHead, HostPoseTurnsTheHead) {
   EXPECT_NEAR(o[2], q[2], 1e-6);
 }
 
+// Head prediction's two world properties: defaults, round trips, and bad
+// values refused with the setting left as it was.
+TEST(PluginHead, PredictionSettingsRoundTripAndBadValuesAreRefused) {
+  TestWorld t(false);
+  ESint v = -1;
+  ASSERT_EQ(esGetWorldi(t.w, ES_HEAD_PREDICTION, &v), ES_OK);
+  EXPECT_EQ(v, ES_TRUE);
+  ASSERT_EQ(esGetWorldi(t.w, ES_OUTPUT_LATENCY_US, &v), ES_OK);
+  EXPECT_EQ(v, 0);
+  ASSERT_EQ(esWorldi(t.w, ES_OUTPUT_LATENCY_US, 10667), ES_OK);
+  ASSERT_EQ(esWorldi(t.w, ES_HEAD_PREDICTION, ES_FALSE), ES_OK);
+  ASSERT_EQ(esGetWorldi(t.w, ES_HEAD_PREDICTION, &v), ES_OK);
+  EXPECT_EQ(v, ES_FALSE);
+  ASSERT_EQ(esGetWorldi(t.w, ES_OUTPUT_LATENCY_US, &v), ES_OK);
+  EXPECT_EQ(v, 10667) << "switching prediction off and on keeps the latency";
+  EXPECT_EQ(esWorldi(t.w, ES_HEAD_PREDICTION, 2), ES_INVALID_VALUE);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("ES_HEAD_PREDICTION"), std::string::npos);
+  EXPECT_EQ(esWorldi(t.w, ES_OUTPUT_LATENCY_US, -1), ES_INVALID_VALUE);
+  EXPECT_EQ(esWorldi(t.w, ES_OUTPUT_LATENCY_US, 1000001), ES_INVALID_VALUE);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("ES_OUTPUT_LATENCY_US"), std::string::npos);
+  ASSERT_EQ(esGetWorldi(t.w, ES_OUTPUT_LATENCY_US, &v), ES_OK);
+  EXPECT_EQ(v, 10667);
+  ASSERT_EQ(esGetWorldi(t.w, ES_HEAD_PREDICTION, &v), ES_OK);
+  EXPECT_EQ(v, ES_FALSE);
+}
+
 // The live tracker behind esAttachTracker: opentrack packets on the
 // loopback interface turn the head (the first pose is the neutral one).
 TEST(PluginHead, LiveTrackerTurnsTheHead) {

@@ -204,6 +204,10 @@ long run_live(const LiveOptions& o) {
 
   out.start(dev, rate, o.buffer, &render_block, &side);
   StopAudio stop_audio{out};
+  // The head prediction reaches to when a block is heard: the device's
+  // output latency on top of the block itself.
+  (void)esWorldi(session.world(), ES_OUTPUT_LATENCY_US,
+                 static_cast<ESint>(std::lround(std::clamp(out.latency_s(), 0.0, 1.0) * 1e6)));
   // The audio thread real-time (when the server did not already and we may):
   // a window drawn in software next to it then cannot delay its blocks.
   const std::string rt_why = out.make_audio_thread_realtime();

@@ -229,9 +229,11 @@ int main(int argc, char** argv) try {
 
   // The disk cache lives in a fresh temporary directory (never the user's):
   // emptied before each "empty" run, left filled for the "filled" ones.
-  std::string tmpl = (std::filesystem::temp_directory_path() / "earshot_world_start_XXXXXX").string();
-  if (!mkdtemp(tmpl.data())) throw std::runtime_error("cannot make a temporary directory");
-  const std::filesystem::path cache_dir = tmpl;
+  // Named by this process's id; create_directory fails rather than reuse one.
+  const std::filesystem::path cache_dir =
+      std::filesystem::temp_directory_path() / ("earshot_world_start_" + std::to_string(getpid()));
+  if (!std::filesystem::create_directory(cache_dir))
+    throw std::runtime_error("cannot make the temporary directory " + cache_dir.string());
   std::vector<Cost> off, empty, filled;
   for (int i = 0; i < first_runs; ++i) {
     off.push_back(first_world_in_new_process("off"));

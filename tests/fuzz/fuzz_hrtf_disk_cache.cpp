@@ -7,7 +7,7 @@
 // Seed: at start-up a valid file of a small set (eight directions, 8-tap
 // filters, 4-frame blocks) is written into the corpus directory given on
 // the command line, so the seed always has the current format (the
-// committed corpus holds only a stub).
+// committed corpus holds only the file magic).
 #include <cmath>
 #include <cstddef>
 #include <cstdint>

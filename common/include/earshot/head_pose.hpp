@@ -87,10 +87,7 @@ inline constexpr double kMaxHeadPredictionS = 0.060;
   const double a = norm(half);  // half the angle turned
   const double s = a > 1e-12 ? std::sin(a) / a : 1.0;
   const Quat turn{std::cos(a), s * half[0], s * half[1], s * half[2]};
-  Quat q = multiply(turn, p.orientation);
-  const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-  for (double& c : q) c /= n;
-  out.orientation = q;
+  out.orientation = normalised(multiply(turn, p.orientation)).value_or(p.orientation);
   out.steady_s = p.steady_s + dt;
   return out;
 }

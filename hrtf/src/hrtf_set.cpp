@@ -403,8 +403,38 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
   }
   set.shells_ = std::move(shells);
+  set.set_blend_floors(false);
   return set;
 }
+
+void HrtfSet::set_blend_floors(bool plain) {
+  const auto unit = [&](std::size_t m) {
+    const Direction& d = dirs_[m];
+    return Vec3{std::cos(d.elevation) * std::cos(d.azimuth), std::cos(d.elevation) * std::sin(d.azimuth),
+                std::sin(d.elevation)};
+  };
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  for (ShellData& sh : shells_) {
+    const SphereTriangulation& tri = *sh.triangulation;
+    sh.floor.assign(tri.triangle_count(), 0.0);
+    if (plain) continue;
+    for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
+      const auto v = tri.vertices(t);
+      std::array<Vec3, 3> p{};
+      for (std::size_t k = 0; k < 3; ++k) p[k] = unit(sh.info.first + v[k]);
+      double longest = 0.0;  // radians
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Vec3& a = p[k];
+        const Vec3& b = p[(k + 1) % 3];
+        const double c = std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0, 1.0);
+        longest = std::max(longest, std::acos(c));
+      }
+      sh.floor[t] = longest > 0.0 ? std::min(kMaxBlendFloor, kSpectralShiftDeg * kDeg / (2.0 * longest)) : 0.0;
+    }
+  }
+}
+
+void HrtfSet::set_plain_blend(bool plain) { set_blend_floors(plain); }
 
 HrtfSet::Stored HrtfSet::stored() const {
   Stored s;
@@ -472,6 +502,7 @@ HrtfSet HrtfSet::from_stored(Stored s) {
   set.energies_ = std::move(s.energies);
   set.log_energies_.reserve(M);
   for (const auto& e : set.energies_) set.log_energies_.push_back({std::log(e[0]), std::log(e[1])});
+  set.set_blend_floors(false);
   return set;
 }
 
@@ -503,6 +534,17 @@ Interpolation HrtfSet::interpolate_in_shell(const Vec3& d, std::size_t shell, st
     log_energy[1] += w * log_energies_[m][1];
   }
   out.energy = {std::exp(log_energy[0]), std::exp(log_energy[1])};
+  out.barycentric = out.blend.weight;
+  // The filter blend: weights below the triangle's floor fade out
+  // (kSpectralShiftDeg). Continuous in the direction, so a moving source's
+  // gains still glide; at the floor's limit of 1/3 the centre keeps 1/3 each.
+  if (const double floor = sh.floor[out.blend.triangle]; floor > 0.0) {
+    std::array<double, 3> kept{};
+    double sum = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) sum += kept[k] = std::max(0.0, out.blend.weight[k] - floor);
+    if (sum > 0.0)
+      for (std::size_t k = 0; k < 3; ++k) out.blend.weight[k] = kept[k] / sum;
+  }
   const std::array<double, 3>& w = out.blend.weight;
   for (std::size_t ear = 0; ear < 2; ++ear) {
     const auto& g = sh.gram[out.blend.triangle][ear];  // w^T G w

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <algorithm>
@@ -273,4 +274,107 @@ TEST(HrtfSet, CorruptedCopiesOfTheDefaultFileGetAnErrorOrLoadCleanly) {
   }
   EXPECT_GT(errors, 10);
   std::printf("corrupted copies: %d rejected with an error, %d loaded\n", errors, loaded);
+}
+
+namespace {
+
+earshot::Vec3 unit_vector(const Direction& d) {
+  return {std::cos(d.elevation) * std::cos(d.azimuth), std::cos(d.elevation) * std::sin(d.azimuth), std::sin(d.elevation)};
+}
+
+/// The point on the sphere that weights w give the triangle's measurements.
+earshot::Vec3 blend_point(const HrtfSet& s, const std::array<std::uint32_t, 3>& index, const std::array<double, 3>& w) {
+  earshot::Vec3 p{0, 0, 0};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const earshot::Vec3 u = unit_vector(s.direction(index[k]));
+    for (std::size_t i = 0; i < 3; ++i) p[i] += w[k] * u[i];
+  }
+  const double n = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+  return {p[0] / n, p[1] / n, p[2] / n};
+}
+
+double angle_deg(const earshot::Vec3& a, const earshot::Vec3& b) {
+  return std::acos(std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0, 1.0)) / kDeg;
+}
+
+}  // namespace
+
+TEST(HrtfSet, BlendFloorMovesOnlyTheSpectralDetailAndByAtMostItsAngle) {
+  // The filter weights fade out below each triangle's floor; the delays and
+  // the energies keep the plain barycentric weights, so the ITD and each
+  // ear's broadband level do not move, and the filter blend's point stays
+  // within kSpectralShiftDeg of the barycentric one.
+  const auto& s = kemar48();
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> az(-180, 180), el(-90, 90);
+  double worst = 0, nonzero = 0;
+  const int n = 3000;
+  for (int k = 0; k < n; ++k) {
+    const Interpolation in = s.interpolate(az(rng) * kDeg, el(rng) * kDeg);
+    double sum = 0, bsum = 0, left = 0, right = 0;
+    for (std::size_t v = 0; v < 3; ++v) {
+      ASSERT_GE(in.blend.weight[v], 0.0);
+      ASSERT_GE(in.barycentric[v], 0.0);
+      sum += in.blend.weight[v];
+      bsum += in.barycentric[v];
+      nonzero += in.blend.weight[v] > 0.0 ? 1.0 : 0.0;
+      const std::size_t m = in.blend.index[v];
+      left += in.barycentric[v] * s.delays(m).left_s;
+      right += in.barycentric[v] * s.delays(m).right_s;
+    }
+    ASSERT_NEAR(sum, 1.0, 1e-12);
+    ASSERT_NEAR(bsum, 1.0, 1e-12);
+    EXPECT_NEAR(in.delays.left_s, left, 1e-12) << k;
+    EXPECT_NEAR(in.delays.right_s, right, 1e-12) << k;
+    worst = std::max(worst, angle_deg(blend_point(s, in.blend.index, in.blend.weight),
+                                      blend_point(s, in.blend.index, in.barycentric)));
+  }
+  std::printf("blend floor: %.2f filters per direction, spectral blend moved by up to %.2f degrees\n", nonzero / n, worst);
+  EXPECT_LE(worst, HrtfSet::kSpectralShiftDeg * 1.01);
+  // MIT KEMAR's grid (5 degrees in azimuth on the horizon, 10 in elevation)
+  // is dense enough that most directions mix fewer than three filters.
+  EXPECT_LT(nonzero / n, 2.5);
+  EXPECT_GT(worst, 0.5 * HrtfSet::kSpectralShiftDeg);  // the floor is in use
+}
+
+TEST(HrtfSet, PlainBlendKeepsTheBarycentricWeights) {
+  HrtfSet s = kemar48();
+  s.set_plain_blend(true);
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> az(-180, 180), el(-90, 90);
+  for (int k = 0; k < 500; ++k) {
+    const Interpolation in = s.interpolate(az(rng) * kDeg, el(rng) * kDeg);
+    for (std::size_t v = 0; v < 3; ++v) ASSERT_EQ(in.blend.weight[v], in.barycentric[v]) << k;
+  }
+}
+
+TEST(HrtfSet, FlooredWeightsAreContinuousAcrossTriangles) {
+  // A moving source's gains glide only if its weights do: along fine paths
+  // no measurement's weight jumps, also where the path crosses into
+  // another triangle (the vertices it leaves have faded to zero there).
+  const auto& s = kemar48();
+  double worst = 0;
+  for (double el : {-35.0, -12.5, 0.0, 7.0, 33.0, 61.0}) {
+    std::vector<std::pair<std::uint32_t, double>> prev;
+    for (int i = 0; i <= 36000; ++i) {
+      const double a = -180.0 + i * 0.01;
+      const Interpolation in = s.interpolate(a * kDeg, el * kDeg);
+      std::vector<std::pair<std::uint32_t, double>> now;
+      for (std::size_t v = 0; v < 3; ++v)
+        if (in.blend.weight[v] > 0.0) now.emplace_back(in.blend.index[v], in.blend.weight[v]);
+      if (i > 0) {
+        const auto weight_in = [](const std::vector<std::pair<std::uint32_t, double>>& set, std::uint32_t m) {
+          for (const auto& [idx, w] : set)
+            if (idx == m) return w;
+          return 0.0;
+        };
+        for (const auto& [m, w] : now) worst = std::max(worst, std::abs(w - weight_in(prev, m)));
+        for (const auto& [m, w] : prev) worst = std::max(worst, std::abs(w - weight_in(now, m)));
+      }
+      prev = std::move(now);
+    }
+  }
+  // 0.01 degrees of a >= 5-degree triangle moves a plain weight by ~0.002;
+  // the floor steepens that by at most 1 / (1 - 3 x floor).
+  EXPECT_LT(worst, 0.02);
 }

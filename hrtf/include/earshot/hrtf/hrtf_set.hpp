@@ -79,7 +79,16 @@ enum class Ear { left = 0, right = 1 };
 /// weights, the interpolated delays, and the energy each ear's blended filter
 /// should have (interpolated in dB; the blend itself loses some mid-way).
 struct Interpolation {
+  /// The filter blend: the triangle's measurements and the weights their
+  /// filters are mixed with. Weights below the triangle's floor are faded
+  /// out (see HrtfSet::kSpectralShiftDeg), so a direction usually mixes two
+  /// filters and near a measurement one; a measured direction is always
+  /// that measurement alone.
   Blend blend;
+  /// The triangle's plain barycentric weights (same order as blend.index):
+  /// what `delays` and `energy` are interpolated with, so the ITD and each
+  /// ear's broadband level follow the direction exactly.
+  std::array<double, 3> barycentric{};
   Delays delays;
   std::array<double, 2> energy{1.0, 1.0};  ///< [left, right], sum of squared taps
   /// [left, right] energy of the plain weighted sum of the three filters.
@@ -135,6 +144,29 @@ class HrtfSet {
   /// older build and kept on disk are prepared again
   /// (earshot/audio/hrtf_disk_cache.hpp).
   static constexpr std::uint32_t kPreparationVersion = 1;
+
+  /// How far (degrees) the filter blend may move the spectral detail from
+  /// the direction asked for. A blend of three measurements costs three
+  /// convolutions per ear; fading out weights below a floor tau
+  /// (w' = max(0, w - tau), renormalised) leaves one or two for most
+  /// directions, and moves the blend's point within the triangle by at
+  /// most 2 tau of its longest edge (the total variation between w and w'
+  /// is at most 2 tau). So each triangle's floor is
+  /// min(kMaxBlendFloor, kSpectralShiftDeg / (2 x longest edge)): dense
+  /// grids fade more, sparse ones (and the faces that span a gap in the
+  /// grid) stay nearly barycentric. 3 degrees is below the smallest change
+  /// of elevation listeners hear in broadband noise, ~3.6 degrees (Perrott
+  /// and Saberi 1990), where the spectral detail is the cue; the ITD and
+  /// the broadband level of each ear, the horizontal cues, are interpolated
+  /// with the plain weights and do not move at all.
+  static constexpr double kSpectralShiftDeg = 3.0;
+  /// The floor never reaches 1/3, where the centre of a triangle would have
+  /// no weight left.
+  static constexpr double kMaxBlendFloor = 0.3;
+  /// Triangle t of shell s's floor (0 when the set was told to blend plainly).
+  [[nodiscard]] double blend_floor(std::size_t shell, std::size_t t) const { return shells_[shell].floor[t]; }
+  /// Plain barycentric filter blends (every floor 0), for comparisons.
+  void set_plain_blend(bool plain);
 
   [[nodiscard]] double sample_rate() const { return rate_; }
   /// Taps of every onset-free filter: the responses' length plus room for
@@ -237,7 +269,10 @@ class HrtfSet {
     // triangle's three filters, so a blend's energy costs nine multiplies,
     // not a pass.
     std::vector<std::array<std::array<double, 6>, 2>> gram;
+    std::vector<double> floor;  // [triangle]: the blend floor (kSpectralShiftDeg)
   };
+  /// Each triangle's blend floor, from its vertices' directions.
+  void set_blend_floors(bool plain);
   std::vector<ShellData> shells_;  // farthest first
   double removed_delay_s_ = 0.0;
   std::optional<double> parametric_radius_;

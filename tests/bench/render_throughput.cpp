@@ -10,14 +10,17 @@
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
 //                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
-//                     [--hrtf FILE.sofa] [--no-near-field]
+//                     [--hrtf FILE.sofa] [--no-near-field] [--plain-blend]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
 // by other load on the machine). --still keeps every source at its start
 // (positions still set every block): the cost without filter updates.
 // --no-near-field turns Earshot's near field off (the paths pass within the
-// default set's 1.4 m shell, where it runs): what it costs.
+// default set's 1.4 m shell, where it runs): what it costs. --plain-blend
+// blends each direction's filters with the plain barycentric weights (no
+// blend floor, hrtf_set.hpp): what the floor saves. The last column is the
+// convolutions (measured direction x ear) Earshot ran per source and block.
 // --stop-below: a renderer is not run at larger N once its RTF fell below.
 #include <time.h>
 
@@ -92,9 +95,15 @@ struct Budget {
   bool near_field = true;  // Earshot's near field (sources nearer than the set's shell)
 };
 
+/// What a run of Earshot measured.
+struct EarshotRun {
+  double rtf = 0;
+  double convolutions = 0;  // per source and block, timed blocks
+};
+
 /// Realtime factor of Earshot's Renderer with n moving sources.
-double run_earshot(int n, const Budget& budget, const std::shared_ptr<const earshot::hrtf::HrtfSet>& hrtf,
-                   const std::vector<std::vector<float>>& loops) {
+EarshotRun run_earshot(int n, const Budget& budget, const std::shared_ptr<const earshot::hrtf::HrtfSet>& hrtf,
+                       const std::vector<std::vector<float>>& loops) {
   earshot::audio::RendererConfig cfg;
   cfg.sample_rate = kRate;
   cfg.block = kBlock;
@@ -113,7 +122,7 @@ double run_earshot(int n, const Budget& budget, const std::shared_ptr<const ears
     read[std::size_t(i)] = std::size_t(i) * 977 % kRate;
   }
   std::vector<float> left(kBlock), right(kBlock);
-  std::size_t block = 0;
+  std::size_t block = 0, convolutions = 0;
   auto step = [&] {
     const double t = budget.still ? 0.0 : double(block * kBlock) / kRate;
     for (int i = 0; i < n; ++i) {
@@ -132,17 +141,19 @@ double run_earshot(int n, const Budget& budget, const std::shared_ptr<const ears
       }
     }
     r.render(left, right);
+    convolutions += r.convolutions();
     ++block;
   };
   for (int b = 0; b < 40; ++b) step();  // warm-up, untimed
   const std::size_t first = block;
+  convolutions = 0;
   const double start = cpu_seconds();
   double cpu = 0;
   while (double((block - first) * kBlock) / kRate < budget.seconds || cpu < budget.min_cpu) {
     for (int b = 0; b < 16; ++b) step();
     cpu = cpu_seconds() - start;
   }
-  return double((block - first) * kBlock) / kRate / cpu;
+  return {double((block - first) * kBlock) / kRate / cpu, double(convolutions) / double((block - first) * std::size_t(n))};
 }
 
 /// Realtime factor of OpenAL Soft (HRTF, loopback) with n moving sources.
@@ -231,6 +242,9 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
   app.add_flag("!--no-near-field", budget.near_field, "Earshot without its near field (what it costs)");
+  bool plain_blend = false;
+  app.add_flag("--plain-blend", plain_blend,
+               "Earshot blends the filters with plain barycentric weights (no blend floor: what the floor saves)");
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
   std::string only = "both", csv_path, hrtf_path;
   app.add_option("--hrtf", hrtf_path, "Earshot's SOFA set (default: MIT KEMAR); OpenAL Soft keeps its own");
@@ -246,23 +260,30 @@ int main(int argc, char** argv) {
   }
 
   try {
-    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(
+    auto set = std::make_shared<earshot::hrtf::HrtfSet>(
         hrtf_path.empty() ? earshot::hrtf::HrtfSet::load_default(kRate) : earshot::hrtf::HrtfSet::load(hrtf_path, kRate));
+    if (plain_blend) set->set_plain_blend(true);
+    const std::shared_ptr<const earshot::hrtf::HrtfSet> hrtf = std::move(set);
     std::fprintf(stderr, "render_throughput: Earshot's set %s, %zu directions, %zu-tap filters at %d Hz\n",
                  hrtf_path.empty() ? earshot::hrtf::HrtfSet::kDefaultPath : hrtf_path.c_str(), hrtf->measurement_count(),
                  hrtf->filter_length(), kRate);
     const auto loops = noise_loops();
     std::string al_hrtf;
-    std::vector<double> ear, oal;  // 0: not run
+    std::vector<double> ear, oal, conv;  // 0: not run
     for (int n : ns) {
       const bool run_e = only != "openal" && (ear.empty() || ear.back() >= stop_below);
       const bool run_o = only != "earshot" && (oal.empty() || oal.back() >= stop_below);
-      double best_e = 0, best_o = 0;
+      double best_e = 0, best_o = 0, conv_e = 0;
       for (int k = 0; k < repeat; ++k) {  // interleaved, so slow drifts in load hit both
-        if (run_e) best_e = std::max(best_e, run_earshot(n, budget, hrtf, loops));
+        if (run_e) {
+          const EarshotRun e = run_earshot(n, budget, hrtf, loops);
+          best_e = std::max(best_e, e.rtf);
+          conv_e = e.convolutions;  // the same work every time
+        }
         if (run_o) best_o = std::max(best_o, run_openal(n, budget, loops, al_hrtf));
       }
       ear.push_back(best_e);
+      conv.push_back(conv_e);
       oal.push_back(best_o);
       std::fprintf(stderr, "render_throughput: %d sources done\n", n);
     }
@@ -274,7 +295,7 @@ int main(int argc, char** argv) {
     std::printf("Realtime factor = seconds of audio per CPU second (best of %d; each >= %.2g s audio, >= %.2g CPU s).\n\n",
                 repeat, budget.seconds, budget.min_cpu);
     std::printf("| sources | Earshot RTF | OpenAL Soft RTF | Earshot / OpenAL | Earshot us per source-block |"
-                " OpenAL us per source-block |\n|---|---|---|---|---|---|\n");
+                " OpenAL us per source-block | Earshot convolutions per source-block |\n|---|---|---|---|---|---|---|\n");
     auto cell = [](double v, const char* fmt) {
       char buf[32];
       if (v > 0) std::snprintf(buf, sizeof buf, fmt, v);
@@ -282,10 +303,10 @@ int main(int argc, char** argv) {
     };
     const double block_us = 1e6 * double(kBlock) / kRate;
     for (std::size_t k = 0; k < ns.size(); ++k)
-      std::printf("| %d | %s | %s | %s | %s | %s |\n", ns[k], cell(ear[k], "%.2f").c_str(), cell(oal[k], "%.2f").c_str(),
+      std::printf("| %d | %s | %s | %s | %s | %s | %s |\n", ns[k], cell(ear[k], "%.2f").c_str(), cell(oal[k], "%.2f").c_str(),
                   ear[k] > 0 && oal[k] > 0 ? cell(ear[k] / oal[k], "%.2f").c_str() : "-",
                   cell(ear[k] > 0 ? block_us / (ear[k] * ns[k]) : 0, "%.2f").c_str(),
-                  cell(oal[k] > 0 ? block_us / (oal[k] * ns[k]) : 0, "%.2f").c_str());
+                  cell(oal[k] > 0 ? block_us / (oal[k] * ns[k]) : 0, "%.2f").c_str(), cell(conv[k], "%.2f").c_str());
     if (!csv_path.empty()) {
       std::FILE* f = std::fopen(csv_path.c_str(), "w");
       if (!f) throw std::runtime_error(csv_path + ": cannot write");

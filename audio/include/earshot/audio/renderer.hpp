@@ -111,6 +111,9 @@ class Renderer {
 
   [[nodiscard]] std::size_t block() const { return cfg_.block; }
   [[nodiscard]] const RendererConfig& config() const { return cfg_; }
+  /// Convolutions (measured direction x ear) the last render() ran: what
+  /// the sources' filter blends cost (benchmarks report it per source).
+  [[nodiscard]] std::size_t convolutions() const { return bank_->lanes_run(); }
 
  private:
   struct Voice;

@@ -209,19 +209,34 @@ std::shared_ptr<const NearFieldTable> NearFieldTable::shared(double sample_rate,
 }
 
 bool NearFieldTable::taps(std::size_t shell, double r, double theta, std::span<float> out) const {
-  if (taps_.empty() || shell >= shells_.size() || out.size() < kTaps) return false;
-  if (shell == 0 && r >= shells_.front()) return false;
-  const double u = 1.0 / std::clamp(r, r_min_, shells_.front());
-  const double gd = std::clamp((inv_near_ - u) / (inv_near_ - inv_far_), 0.0, 1.0) * (kDistances - 1);
-  const double ga = std::clamp(std::abs(theta), 0.0, kPi) / kAngleStep;
-  const auto d0 = std::min(static_cast<std::size_t>(gd), kDistances - 2);
-  const auto a0 = std::min(static_cast<std::size_t>(ga), kAngles - 2);
-  const auto fd = static_cast<float>(gd - static_cast<double>(d0)), fa = static_cast<float>(ga - static_cast<double>(a0));
-  const float w00 = (1 - fd) * (1 - fa), w01 = (1 - fd) * fa, w10 = fd * (1 - fa), w11 = fd * fa;
-  const float *h00 = fir(shell, d0, a0), *h01 = fir(shell, d0, a0 + 1), *h10 = fir(shell, d0 + 1, a0),
-              *h11 = fir(shell, d0 + 1, a0 + 1);
-  for (std::size_t k = 0; k < kTaps; ++k) out[k] = w00 * h00[k] + w01 * h01[k] + w10 * h10[k] + w11 * h11[k];
+  const GridPoint g = locate(shell, r, theta);
+  if (!g.on || out.size() < kTaps) return false;
+  taps_at(g, out);
   return true;
+}
+
+NearFieldTable::GridPoint NearFieldTable::locate(std::size_t shell, double r, double theta) const {
+  GridPoint g;
+  g.shell = shell;
+  if (taps_.empty() || shell >= shells_.size()) return g;
+  if (shell == 0 && r >= shells_.front()) return g;
+  const double u = 1.0 / std::clamp(r, r_min_, shells_.front());
+  g.distance = std::clamp((inv_near_ - u) / (inv_near_ - inv_far_), 0.0, 1.0) * (kDistances - 1);
+  g.angle = std::clamp(std::abs(theta), 0.0, kPi) / kAngleStep;
+  g.on = true;
+  return g;
+}
+
+void NearFieldTable::taps_at(const GridPoint& g, std::span<float> out) const {
+  if (!g.on || g.shell >= shells_.size() || out.size() < kTaps) return;
+  const auto d0 = std::min(static_cast<std::size_t>(g.distance), kDistances - 2);
+  const auto a0 = std::min(static_cast<std::size_t>(g.angle), kAngles - 2);
+  const auto fd = static_cast<float>(g.distance - static_cast<double>(d0)),
+             fa = static_cast<float>(g.angle - static_cast<double>(a0));
+  const float w00 = (1 - fd) * (1 - fa), w01 = (1 - fd) * fa, w10 = fd * (1 - fa), w11 = fd * fa;
+  const float *h00 = fir(g.shell, d0, a0), *h01 = fir(g.shell, d0, a0 + 1), *h10 = fir(g.shell, d0 + 1, a0),
+              *h11 = fir(g.shell, d0 + 1, a0 + 1);
+  for (std::size_t k = 0; k < kTaps; ++k) out[k] = w00 * h00[k] + w01 * h01[k] + w10 * h10[k] + w11 * h11[k];
 }
 
 NearFieldFilter::NearFieldFilter(std::size_t block) : block_(block) {

@@ -66,6 +66,7 @@ struct Renderer::Voice {
     std::uint32_t triangle_r = hrtf::SphereTriangulation::kNoHint;
     std::array<double, 2> shift{0.0, 0.0};  // seconds added to each ear's delay (near_field.hpp)
     NearFieldFilter filter_l, filter_r;     // the near-field level, per ear
+    std::array<NearFieldTable::GridPoint, 2> grid{};  // where each ear's taps were last computed
     std::array<float, NearFieldTable::kTaps> taps{};
   };
   std::unique_ptr<Near> near;
@@ -168,6 +169,7 @@ int Renderer::add_source(const SourceState& s) {
   v.near->shift = {0.0, 0.0};
   v.near->filter_l.reset();
   v.near->filter_r.reset();
+  v.near->grid = {};
   v.panned = false;
   v.moved_from.reset();
   v.air.reset();
@@ -292,14 +294,23 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
     v.ear_delay = to;
     if (near || v.near->filter_l.active() || v.near->filter_r.active()) {
-      // Each ear's level from the sphere model, for its angle to the source.
+      // Each ear's level from the sphere model, for its angle to the source;
+      // new taps only once the source has moved a fraction of a grid cell.
       Voice::Near& n = *v.near;
       const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
       const std::span<const float> taps(n.taps);
-      const bool on_l = near_field_->taps(v.shell, hr.distance, std::acos(uy), n.taps);
-      n.filter_l.process(v.ear_l, on_l ? taps : std::span<const float>{});
-      const bool on_r = near_field_->taps(v.shell, hr.distance, std::acos(-uy), n.taps);
-      n.filter_r.process(v.ear_r, on_r ? taps : std::span<const float>{});
+      for (std::size_t ear = 0; ear < 2; ++ear) {
+        NearFieldFilter& filter = ear == 0 ? n.filter_l : n.filter_r;
+        const std::span<float> x = ear == 0 ? std::span<float>(v.ear_l) : std::span<float>(v.ear_r);
+        const NearFieldTable::GridPoint at = near_field_->locate(v.shell, hr.distance, std::acos(ear == 0 ? uy : -uy));
+        if (!NearFieldTable::moved_enough(n.grid[ear], at)) {
+          filter.hold(x);
+          continue;
+        }
+        if (at.on) near_field_->taps_at(at, n.taps);
+        filter.process(x, at.on ? taps : std::span<const float>{});
+        n.grid[ear] = at;
+      }
     }
     pan(v, v.recipe, right_recipe, g);
     const auto send = static_cast<float>(v.state.reverb_send);

@@ -46,10 +46,18 @@ void fir_glide(const float* h0, const float* h1, std::size_t T, const float* __r
     for (std::size_t i0 = 0; i0 < n; i0 += kFirGroup) {
       const std::size_t m = n - i0 < kFirGroup ? n - i0 : kFirGroup;
       float a[kFirGroup] = {};
-      for (std::size_t k = 0; k < T; ++k) {
-        const float g = h0[k];
-        const float* xk = x + i0 - k;
-        for (std::size_t j = 0; j < m; ++j) a[j] += g * xk[j];
+      if (m == kFirGroup) {  // a fixed count, so the group stays in registers
+        for (std::size_t k = 0; k < T; ++k) {
+          const float g = h0[k];
+          const float* xk = x + i0 - k;
+          for (std::size_t j = 0; j < kFirGroup; ++j) a[j] += g * xk[j];
+        }
+      } else {
+        for (std::size_t k = 0; k < T; ++k) {
+          const float g = h0[k];
+          const float* xk = x + i0 - k;
+          for (std::size_t j = 0; j < m; ++j) a[j] += g * xk[j];
+        }
       }
       for (std::size_t j = 0; j < m; ++j) y[i0 + j] = a[j];
     }

@@ -179,3 +179,48 @@ TEST(NearFieldFilter, TakesNoAllocationWhileRunning) {
   EXPECT_EQ(probe.count(), 0u);
   EXPECT_EQ(probe.lock_count(), 0u);
 }
+
+TEST(NearFieldFilter, HoldKeepsTheTapsItHas) {
+  // hold() filters with the taps of the last process(): the same samples as
+  // handing those taps again, for a block length that is not a whole group.
+  constexpr std::size_t B = 100, T = NearFieldTable::kTaps;
+  NearFieldFilter held(B), again(B);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  std::vector<float> taps(T), x(B);
+  for (float& v : taps) v = 0.1f * u(rng);
+  for (int b = 0; b < 4; ++b) {
+    for (float& v : x) v = u(rng);
+    std::vector<float> a = x, c = x;
+    if (b == 0) {
+      held.process(a, taps);
+    } else {
+      held.hold(a);
+    }
+    again.process(c, taps);
+    for (std::size_t i = 0; i < B; ++i) ASSERT_EQ(a[i], c[i]) << b << " " << i;
+  }
+  NearFieldFilter unity(B);
+  for (float& v : x) v = u(rng);
+  std::vector<float> y = x;
+  unity.hold(y);  // no taps yet: the unit impulse
+  EXPECT_EQ(y, x);
+}
+
+TEST(NearFieldTable, TapsAreRecomputedOnceASourceHasMovedAFractionOfACell) {
+  const double shells[] = {1.4};
+  const auto t = NearFieldTable::shared(48000.0, shells);
+  const auto a = t->locate(0, 0.5, 1.0);
+  ASSERT_TRUE(a.on);
+  EXPECT_FALSE(NearFieldTable::moved_enough(a, a));
+  // 5-degree angle cells: 0.2 degrees is under a sixteenth, 0.4 over it.
+  EXPECT_FALSE(NearFieldTable::moved_enough(a, t->locate(0, 0.5, 1.0 + 0.2 * kDeg)));
+  EXPECT_TRUE(NearFieldTable::moved_enough(a, t->locate(0, 0.5, 1.0 + 0.4 * kDeg)));
+  EXPECT_TRUE(NearFieldTable::moved_enough(a, t->locate(0, 0.45, 1.0)));
+  EXPECT_TRUE(NearFieldTable::moved_enough(a, t->locate(0, 2.0, 1.0)));  // beyond the shell: off
+  // taps_at gives what taps() gives.
+  std::vector<float> x(NearFieldTable::kTaps), y(NearFieldTable::kTaps);
+  ASSERT_TRUE(t->taps(0, 0.5, 1.0, x));
+  t->taps_at(a, y);
+  EXPECT_EQ(x, y);
+}

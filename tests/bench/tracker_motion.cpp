@@ -209,12 +209,12 @@ constexpr const char* kMissNames[kMissKinds] = {
     "3 LEDs, tracking before: not followed", "4 LEDs, tracking before: not followed",
     "3 LEDs after a loss: not re-acquired", "4 LEDs after a loss: not re-acquired", "a stray among the dots"};
 
-/// What a flipped frame got wrong: a dot given the wrong LED (a stray taken
-/// for one, or a permutation), the other pose of the right labels from 4 or
-/// from 3 dots, or only the filter's output (the solve itself was right).
 /// Two LM solutions this close (rad) are one minimum of the reprojection error.
 constexpr double kSameMinimumRad = 2.0 * M_PI / 180.0;
 
+/// What a flipped frame got wrong: a dot given the wrong LED (a stray taken
+/// for one, or a permutation), the other pose of the right labels from 4 or
+/// from 3 dots, or only the filter's output (the solve itself was right).
 enum FlipKind { kFlipLabels, kFlip4, kFlip3, kFlipFilter, kFlipKinds };
 constexpr const char* kFlipNames[kFlipKinds] = {"flips: wrong labels", "flips: 4-dot pose", "flips: 3-dot pose",
                                                 "flips: filter only"};
@@ -224,7 +224,10 @@ constexpr const char* kFlipNames[kFlipKinds] = {"flips: wrong labels", "flips: 4
 /// pixels); every 3+ LED frame not tracked is counted by cause, with what
 /// the truth says about it: the prediction's worst LED error (px) against
 /// the match gate, and the RMS fit of LM from the true labels against the
-/// fit gate.
+/// fit gate. Flips (tracked frames beyond kFlipDeg) are counted by kind and,
+/// separately, those on a wrong branch (wrong labels, or a minimum of the
+/// reprojection error other than the truth's), which no filter averages away,
+/// from those on the right one (8-px noise, the 3-dot prior, the filter's lag).
 void misses(const Options& o) {
   struct Walk {
     const char* name;

@@ -209,6 +209,9 @@ constexpr const char* kMissNames[kMissKinds] = {
     "3 LEDs, tracking before: not followed", "4 LEDs, tracking before: not followed",
     "3 LEDs after a loss: not re-acquired", "4 LEDs after a loss: not re-acquired", "a stray among the dots"};
 
+/// Two LM solutions this close (rad) are one minimum of the reprojection error.
+constexpr double kSameMinimumRad = 2.0 * M_PI / 180.0;
+
 /// What a flipped frame got wrong: a dot given the wrong LED (a stray taken
 /// for one, or a permutation), the other pose of the right labels from 4 or
 /// from 3 dots, or only the filter's output (the solve itself was right).
@@ -221,7 +224,10 @@ constexpr const char* kFlipNames[kFlipKinds] = {"flips: wrong labels", "flips: 4
 /// pixels); every 3+ LED frame not tracked is counted by cause, with what
 /// the truth says about it: the prediction's worst LED error (px) against
 /// the match gate, and the RMS fit of LM from the true labels against the
-/// fit gate.
+/// fit gate. Flips (tracked frames beyond kFlipDeg) are counted by kind and,
+/// separately, those on a wrong branch (wrong labels, or a minimum of the
+/// reprojection error other than the truth's), which no filter averages away,
+/// from those on the right one (8-px noise, the 3-dot prior, the filter's lag).
 void misses(const Options& o) {
   struct Walk {
     const char* name;
@@ -246,17 +252,17 @@ void misses(const Options& o) {
   std::printf("\n### Frames with 3+ LEDs seen and not tracked (eskf), by cause; seeds");
   for (auto sd : o.seeds) std::printf(" %llu", static_cast<unsigned long long>(sd));
   std::printf(", %ld frames each\n\n", o.frames);
-  std::printf("| walk | beacon | pixels | speed p50/p99/max | 3+ LED frames | tracked | flips |");
+  std::printf("| walk | beacon | pixels | speed p50/p99/max | 3+ LED frames | tracked | flips | flips on a wrong branch |");
   for (const char* n : kFlipNames) std::printf(" %s |", n);
   for (const char* n : kMissNames) std::printf(" %s |", n);
-  std::printf(" prediction off > match gate | true-label fit > fit gate |\n|---|---|---|---|---|---|---|");
+  std::printf(" prediction off > match gate | true-label fit > fit gate |\n|---|---|---|---|---|---|---|---|");
   for (int k = 0; k < int{kFlipKinds} + int{kMissKinds} + 2; ++k) std::printf("---|");
   std::printf("\n");
   for (const Walk& w : walks)
     for (const Beacon& b : beacons)
       for (const auto pixels : {PixelModel::integer, PixelModel::quantize8}) {
         const Camera cam = Camera::with_focal(b.focal);
-        long frames3 = 0, tracked3 = 0, flips = 0, off_gate = 0, fit_gate = 0;
+        long frames3 = 0, tracked3 = 0, flips = 0, wrong_branch_flips = 0, off_gate = 0, fit_gate = 0;
         std::array<long, kMissKinds> miss{};
         std::array<long, kFlipKinds> flip_kind{};
         SpeedCollector speed;
@@ -289,13 +295,29 @@ void misses(const Options& o) {
                 if (r.slot_led[s] >= 0 && r.slot_led[s] != f.truth->slot_led[s] - 1) labels_ok = false;
               const double raw_deg = rotation_angle_between(r.raw_pose.R, f.truth->pose.R) * 180.0 / M_PI;
               ++flip_kind[!labels_ok ? kFlipLabels : raw_deg <= kFlipDeg ? kFlipFilter : r.dots_used >= 4 ? kFlip4 : kFlip3];
+              // The branch, from the truth: LM (no prior) on the dots the
+              // tracker used, from its pose and from the true pose; two
+              // different minima mean the pose is on another branch (a
+              // mirror or another P3P root), one minimum that the error is
+              // noise, the 3-dot prior or the filter's lag.
+              bool wrong_branch = !labels_ok;
+              if (labels_ok) {
+                LabelledDots used;
+                for (size_t s = 0; s < kSlots; ++s)
+                  if (r.slot_led[s] >= 0) used.add(r.slot_led[s], *f.slots[s]);
+                const Pose from_out = refine_pose_lm(r.raw_pose, used.view(), cam, b.model).pose;
+                const Pose from_truth = refine_pose_lm(f.truth->pose, used.view(), cam, b.model).pose;
+                wrong_branch = rotation_angle_between(from_out.R, from_truth.R) > kSameMinimumRad;
+              }
+              if (wrong_branch) ++wrong_branch_flips;
               if (o.flip_log && !was_flipped)
                 std::printf("flip %s/%s/%s seed %llu frame %ld: %d LEDs %d dots, used %d, labels %s, raw %.1f deg off, "
-                            "out %.1f deg off, rms %.2f px\n",
+                            "out %.1f deg off, rms %.2f px, track %d frames from %d dots, %s branch\n",
                             motion_profile_name(w.motion).data(), b.name, pixels == PixelModel::integer ? "integer" : "8-px",
                             static_cast<unsigned long long>(seed), i, leds, f.visible(), r.dots_used,
                             labels_ok ? "right" : "wrong", raw_deg,
-                            rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px);
+                            rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px, r.track_frames,
+                            r.acquired_dots, wrong_branch ? "wrong" : "right");
             }
             was_flipped = flip;
             if (leds >= 3) {
@@ -326,9 +348,10 @@ void misses(const Options& o) {
           }
         }
         const SpeedStats st = speed.stats();
-        std::printf("| %s | %s | %s | %.0f/%.0f/%.0f | %ld | %.3f %% | %ld |", w.name, b.name,
+        std::printf("| %s | %s | %s | %.0f/%.0f/%.0f | %ld | %.3f %% | %ld | %ld |", w.name, b.name,
                     pixels == PixelModel::integer ? "integer" : "8-px", st.p50, st.p99, st.max, frames3,
-                    100.0 * static_cast<double>(tracked3) / static_cast<double>(std::max(1L, frames3)), flips);
+                    100.0 * static_cast<double>(tracked3) / static_cast<double>(std::max(1L, frames3)), flips,
+                    wrong_branch_flips);
         for (long m : flip_kind) std::printf(" %ld |", m);
         for (long m : miss) std::printf(" %ld |", m);
         std::printf(" %ld | %ld |\n", off_gate, fit_gate);

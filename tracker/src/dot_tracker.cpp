@@ -29,6 +29,10 @@ constexpr long kNoiseKnownSamples = 100;
 /// a fit is judged by never falls below (0.1 px)^2 (noise-free input would
 /// otherwise make the solver's own tolerance look like a stray).
 constexpr double kMinPixelVariance = 1e-2;
+/// 99.9 % point of chi-square with 6 degrees of freedom: a pose farther
+/// from the prediction than this, even at the largest process noise the
+/// eskf tries, is one no head motion explains.
+constexpr double kChi2SixDof999 = 22.46;
 
 /// Squared Mahalanobis distance of pose `p` from the prediction `pred`, whose
 /// spread (rotation, translation: the eskf's error state) is `spread`.
@@ -37,6 +41,43 @@ double mahalanobis2(const Pose& p, const Pose& pred, const Mat6& spread) {
   nu.head<3>() = log_so3(p.R * pred.R.transpose());
   nu.tail<3>() = p.t - pred.t;
   return nu.dot(spread.ldlt().solve(nu));
+}
+
+/// Head velocity decorrelates over ~0.5 s (rotation) and ~1 s (translation)
+/// (eskf.hpp: the same figures give its q). Over a loss longer than that a
+/// constant-velocity extrapolation overshoots; an Ornstein-Uhlenbeck velocity
+/// of those correlation times carries the filter's state across the gap.
+constexpr double kTauRotS = 0.5, kTauTransS = 1.0;
+
+/// Variance per axis of the displacement over dt of an OU velocity whose
+/// acceleration spectral density is q (stationary velocity variance q tau / 2);
+/// q dt^3 / 3 for dt << tau, as the eskf's white acceleration.
+double ou_displacement_var(double q, double tau, double dt) {
+  const double x = dt / tau;
+  return 0.5 * q * tau * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
+}
+
+/// The largest process-noise scale the eskf's manoeuvre test tries (eskf.hpp).
+constexpr double kMaxManoeuvreScale = 1000.0;
+
+/// Squared Mahalanobis distance of pose p from the eskf's last state carried
+/// to time t with an OU velocity, its acceleration noise at the largest
+/// scale the filter's manoeuvre test tries: the pose's distance from every
+/// motion the filter would accept. nullopt before the filter has a state.
+std::optional<double> carried_mahalanobis2(const PoseEskf& eskf, const EskfParams& q, double t, const Pose& p) {
+  if (!eskf.initialised()) return std::nullopt;
+  const EskfStep& st = eskf.last_step();
+  const double dt = std::max(0.0, t - st.t);
+  const double kr = kTauRotS * (1.0 - std::exp(-dt / kTauRotS)), kt = kTauTransS * (1.0 - std::exp(-dt / kTauTransS));
+  const Pose pred{exp_so3(st.w_upd * kr) * st.pose_upd.R, st.pose_upd.t + st.v_upd * kt};
+  Eigen::Matrix<double, 6, 12> A = Eigen::Matrix<double, 6, 12>::Zero();
+  A.leftCols<6>().setIdentity();
+  A.block<3, 3>(0, 6) = kr * Mat3::Identity();
+  A.block<3, 3>(3, 9) = kt * Mat3::Identity();
+  Mat6 spread = A * st.P_upd * A.transpose();
+  spread.diagonal().head<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.angular_accel_psd, kTauRotS, dt);
+  spread.diagonal().tail<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.linear_accel_psd, kTauTransS, dt);
+  return mahalanobis2(p, pred, spread);
 }
 
 /// Distance between two poses without a covariance: radians plus
@@ -68,6 +109,7 @@ struct DotTracker::Hypothesis {
   /// prediction: followed, but not given out as tracked.
   bool ambiguous = false;
   double ssr4 = -1.0;  ///< this frame's 4-dot sum of squared residuals (px^2), -1 without one
+  int born_dots = 4;  ///< dots it was (re)acquired from
 };
 
 DotTracker::DotTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg)
@@ -206,31 +248,28 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       // but a stray among them pulls the pose away from where the head is.
       // The four-dot pose stays a candidate: noise alone puts one fit in a
       // thousand beyond the bound, and then no stray pulls it off the track.
-      std::optional<std::pair<Pose, double>> best3 = got;
       std::optional<Labelling> best_lab;
       if (got) best_lab = *lab;
       double best_off = got ? off(got->first) : 0.0;
+      const Labelling four = *lab;
       for (size_t drop = 0; drop < kSlots; ++drop) {
-        if (lab->slot_led[drop] < 0) continue;
+        if (four.slot_led[drop] < 0) continue;
         Labelling three;
         for (size_t s = 0; s < kSlots; ++s)
-          if (s != drop && lab->slot_led[s] >= 0) {
-            three.slot_led[s] = lab->slot_led[s];
-            three.dots.add(lab->slot_led[s], *frame.slots[s]);
+          if (s != drop && four.slot_led[s] >= 0) {
+            three.slot_led[s] = four.slot_led[s];
+            three.dots.add(four.slot_led[s], *frame.slots[s]);
           }
         if (auto g = fit(three)) {
           const double d = off(g->first);
-          if (!best3 || d < best_off) {
-            best3 = g;
+          if (!best_lab || d < best_off) {
+            got = g;
             best_lab = three;
             best_off = d;
           }
         }
       }
-      if (best3 && best_lab) {
-        got = best3;
-        lab = best_lab;
-      }
+      if (best_lab) lab = best_lab;
     }
     if (!got) continue;
     if (lab->dots.count == 3 && spread) {
@@ -345,6 +384,15 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
         ++answers;
       }
     }
+    // The answer must be a pose some head motion explains: the filter's
+    // last state, carried across the gap, at the largest process noise its
+    // manoeuvre test tries. Beyond the eskf's own gap limit its state says
+    // nothing; then nearness to the last pose alone decides, as before.
+    const bool recent = cfg_.filter == FilterKind::eskf && eskf_.initialised() &&
+                        frame.t - eskf_.last_step().t <= cfg_.eskf.max_gap_s;
+    if (answers == 1 && recent)
+      if (const auto m2 = carried_mahalanobis2(eskf_, cfg_.eskf, frame.t, found->pose); m2 && *m2 > kChi2SixDof999)
+        answers = 0;
     if (answers == 1) {
       const auto& l = found;
       if (const auto pose = solver.solve({l->dots.view(), &l->pose})) {
@@ -353,6 +401,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
         h.cv.observe(*pose, frame.t);
         h.frames = 1;
         h.dots = 3;
+        h.born_dots = 3;
         h.slot_led = l->slot_led;
         h.id = ++next_hyp_id_;
         hyps_.push_back(h);
@@ -399,6 +448,8 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     for (size_t s = 0; s < kSlots; ++s)
       if (best->slot_led[s] >= 0 && output_slot_led_[s] >= 0 && best->slot_led[s] != output_slot_led_[s]) relabelled = true;
     if (relabelled) eskf_.reset();
+    r.track_frames = best->frames;
+    r.acquired_dots = best->born_dots;
     output_hyp_id_ = best->id;
     output_slot_led_ = best->slot_led;
   }

@@ -157,3 +157,38 @@ TEST(DotTracker, ThreeLedsAndAStrayNeverReplaceTheTrack) {
   EXPECT_EQ(w.flips, 0);
   EXPECT_GE(static_cast<double>(w.tracked3) / static_cast<double>(w.frames3), 0.99);
 }
+
+namespace {
+/// A still head at the top edge of the image, tracked from four dots for
+/// 0.5 s, then two dots for 30 ms (lost: `predict_timeout_s` is 30 ms),
+/// then three dots of the pose moved by `jump`, LED 2 (the lowest on the
+/// beacon, so the highest in the image) above the image. The state of that
+/// frame.
+PoseState state_after_jump(const Vec3& jump) {
+  const Camera cam;
+  const LedModel model;
+  TrackerConfig cfg;
+  cfg.filter = FilterKind::eskf;
+  cfg.predict_timeout_s = 0.03;
+  DotTracker tracker(cam, model, cfg);
+  // LED 2 6 px below the top edge.
+  const double y = (6.0 - cam.cy) / cam.fy * 1000.0 - model.leds_mm[2].y();
+  const Pose still{Mat3::Identity(), Vec3(0, y, 1000)};
+  for (int i = 0; i < 50; ++i)
+    EXPECT_EQ(tracker.process(fixtures::frame_of(still, cam, model, {0, 1, 2, 3}, 0.01 * i)).state, PoseState::tracking);
+  for (int i = 50; i < 53; ++i) tracker.process(fixtures::frame_of(still, cam, model, {0, 1, -1, -1}, 0.01 * i));
+  const Pose jumped{still.R, still.t + jump};
+  EXPECT_FALSE(cam.inside(cam.project(jumped.apply(model.leds_mm[2]))));
+  for (int l : {0, 1, 3}) EXPECT_TRUE(cam.inside(cam.project(jumped.apply(model.leds_mm[static_cast<size_t>(l)]))));
+  return tracker.process(fixtures::frame_of(jumped, cam, model, {3, 0, -1, 1}, 0.53)).state;
+}
+}  // namespace
+
+TEST(DotTracker, ReacquiresFromThreeDotsOnlyWhatAHeadCanReach) {
+  // 37 mm in 40 ms (0.9 m/s): beyond the 40 px match gate, so re-acquired
+  // from three dots, and a move a head can make.
+  EXPECT_EQ(state_after_jump(Vec3(35, -12, 0)), PoseState::tracking);
+  // 150 mm in 40 ms (3.8 m/s): three dots fit that pose exactly and no
+  // other root is as near the last pose, but no head moves so: not given out.
+  EXPECT_NE(state_after_jump(Vec3(150, -12, 0)), PoseState::tracking);
+}

@@ -16,7 +16,11 @@
 // prediction carry the pose; a 3-dot frame takes the P3P root most likely
 // given the prediction, and when a second root is about as likely (within
 // 100 : 1) the frame is followed but not given out as tracked: a held or
-// predicted pose is better than a flip.
+// predicted pose is better than a flip. After a loss, a re-acquisition from
+// three dots must also be a pose some head motion explains: the eskf's last
+// state carried across the gap (an Ornstein-Uhlenbeck velocity, with the
+// largest process noise its manoeuvre test tries) must put it within the
+// 99.9 % bound of chi-square with 6 degrees of freedom.
 #pragma once
 
 #include <memory>
@@ -60,6 +64,10 @@ struct TrackResult {
   double rms_px = 0.0;    ///< reprojection error of the solve (tracking only)
   int dots_used = 0;
   std::array<int, kSlots> slot_led{-1, -1, -1, -1};  ///< LED 0-3 per slot
+  /// Frames the output's explanation of the dots has been followed (1: it
+  /// was (re)acquired in this frame; tracking only).
+  int track_frames = 0;
+  int acquired_dots = 0;  ///< dots it was (re)acquired from: 3 or 4 (tracking only)
 };
 
 class DotTracker {

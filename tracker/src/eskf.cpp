@@ -19,7 +19,7 @@ constexpr double kMaxScale = 1e3;
 // Pixel coordinates behind a pose: four dots, two each.
 constexpr double kCoordinates = 8.0;
 // A numerical bound only: the velocity's own uncertainty keeps the predicted
-// dot speed away from zero (rho < 0.99 on the tuning walks).
+// dot speed away from zero (a head held still for a second: rho ~ 0.9).
 constexpr double kMaxCorrelation = 0.999;
 // The NIS beyond which a differenced measurement is taken for a cell
 // crossing (see eskf.hpp).
@@ -213,9 +213,10 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // The correlated model leans on the motion model for longer; that is only
   // right while the motion model is as good as it claims: the NIS averaged
   // over the last second no more than its expectation, the dimension 6 (a
-  // consistency test, Bar-Shalom, Li & Kirubarajan 2001, sec. 5.4). Seated
-  // heads keep it at 4-5 on 8-px pixels; the default walk at 9-11 and
-  // walking, whose 2 Hz bob is beyond the constant-velocity model's q, at 17-29.
+  // time-averaged NIS test of Bar-Shalom, Li & Kirubarajan, "Estimation with
+  // Applications to Tracking and Navigation", 2001). Seated heads keep it at
+  // 4-5 on 8-px pixels; the default walk at 9-11 and walking, whose 2 Hz bob
+  // is beyond the constant-velocity model's q, at 17-29.
   nis_avg_ += std::min(1.0, dt / kNisAverageS) * (std::min(nis, p_.manoeuvre_chi2) - nis_avg_);
   if (nis_avg_ > kConsistentNis) rho = 0.0;
   Eigen::Matrix<double, 6, 12> HP = P_pred.topRows<6>();

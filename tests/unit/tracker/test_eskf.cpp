@@ -337,7 +337,7 @@ TEST(DotTrackerEskf, AveragesMoreOf8PxQuantisationOnASeatedListener) {
     ++n;
   }
   ASSERT_GT(n, 2500);
-  EXPECT_GT(rho_sum / static_cast<double>(n), 0.5);  // seated speeds are a few hundredths of an 8-px cell a frame
+  EXPECT_GT(rho_sum / static_cast<double>(n), 0.5);  // seated speeds: a few hundredths of an 8-px cell a frame
   EXPECT_GT(differenced, n / 4);
   EXPECT_LT(ec.rotation_deg().rms, 0.92 * ew.rotation_deg().rms);
   EXPECT_LT(ec.translation_mm().rms, 0.92 * ew.translation_mm().rms);

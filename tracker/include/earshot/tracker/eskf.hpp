@@ -27,11 +27,11 @@
 // Quantised pixels (quantisation_correlation below): a coordinate rounded to
 // cells of width Delta has the error e = Q(x) - x, white and of variance
 // Delta^2 / 12 only when x moves by much more than Delta between frames
-// (Widrow & Kollar, "Quantization Noise", 2008, ch. 4-5). A dot moving
+// (Widrow & Kollar, "Quantization Noise", 2008). A dot moving
 // r = v / Delta cells a frame shifts its error by r cells: for a random phase
 // the sawtooth's correlation at a shift of f cells is 1 - 6 f (1 - f)
 // (f mod 1), so from one frame to the next rho = 1 - 6 r (1 - r). A slow
-// head (8-px cells at seated speeds, r ~ 0.03) reads the same cell for many
+// head (8-px cells at seated speeds, r ~ 0.05) reads the same cell for many
 // frames, and a filter that takes each reading as new white noise averages
 // little of the error away. The filter models the error as first order
 // autoregressive with that rho, r its own prediction of the dots' speed in
@@ -45,12 +45,12 @@
 //    i.e. mostly the velocity when rho ~ 1;
 //  - but not when a dot has just crossed into another cell: the difference
 //    then jumps by a cell, which the autoregressive model does not describe.
-//    A differenced measurement whose NIS exceeds 6 (its dimension: chosen on
-//    the tuning seeds, anything from 3 to 10 gives the same within 0.01 of
-//    the limit) is replaced by z_k itself with covariance kappa cov,
+//    A differenced measurement whose NIS exceeds 6 (its dimension; on the
+//    tuning seeds thresholds from 3 to 10 gave the same within 0.01 of the
+//    limit) is replaced by z_k itself with covariance kappa cov,
 //    kappa = (1 + rho) / (1 - rho): the variance of an AR(1) mean over many
 //    frames against white noise's (the effective number of independent
-//    samples, Bayley & Hammersley, JRSS B 8:184, 1946);
+//    samples, Bayley & Hammersley, JRSS Suppl. 8:184, 1946);
 //  - and with no previous measurement (start, after a skipped one) or during
 //    a manoeuvre (the velocity, hence r, is then in doubt) also z_k with
 //    kappa cov;

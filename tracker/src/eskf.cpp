@@ -208,8 +208,6 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   scale = std::min(scale, kMaxScale);
   Mat12 P_pred = FPF;
   add_process_noise(P_pred, scale * p_.angular_accel_psd, scale * p_.linear_accel_psd, dt);
-  // The measurement as fused (eskf.hpp): y = H P-rows' combination HP and
-  // innovation y, with S = H P H^T + R. Plain z: HP = the pose rows of P.
   // The correlated model leans on the motion model for longer; that is only
   // right while the motion model is as good as it claims: the NIS averaged
   // over the last second no more than its expectation, the dimension 6 (a
@@ -219,6 +217,8 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // is beyond the constant-velocity model's q, at 17-29.
   nis_avg_ += std::min(1.0, dt / kNisAverageS) * (std::min(nis, p_.manoeuvre_chi2) - nis_avg_);
   if (nis_avg_ > kConsistentNis) rho = 0.0;
+  // The measurement as fused (eskf.hpp): H P and its innovation y, with
+  // S = H P H^T + R. For z itself H = [I 0]: the pose rows of P, and nu.
   Eigen::Matrix<double, 6, 12> HP = P_pred.topRows<6>();
   Eigen::Matrix<double, 6, 1> y = nu;
   bool differenced = false;

@@ -233,3 +233,112 @@ TEST(DotTrackerEskf, RestartsWhenAFourthDotSettlesAThreeDotAmbiguity) {
   EXPECT_EQ(flips_raw, 0);
   EXPECT_EQ(flips_eskf, 0);
 }
+
+TEST(QuantisationCorrelation, IsTheSawtoothsLagOneCorrelation) {
+  // Monte Carlo over the phase: a coordinate moving r cells a frame, rounded
+  // to whole cells; the correlation of its errors one frame apart.
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (const double r : {0.01, 0.03, 0.08, 0.15, 0.3, 0.45}) {
+    double s01 = 0.0, s00 = 0.0;
+    for (int i = 0; i < 200000; ++i) {
+      const double x = 100.0 * u01(rng);
+      const double e0 = std::round(x) - x, e1 = std::round(x + r) - (x + r);
+      s01 += e0 * e1;
+      s00 += e0 * e0;
+    }
+    // Only the positive correlation is modelled: past its first zero the
+    // error counts as white.
+    const double rho = std::max(0.0, s01 / s00);
+    EXPECT_NEAR(quantisation_correlation(r), rho, 0.01) << "r = " << r;
+    EXPECT_NEAR(1.0 / quantisation_inflation(r), (1.0 - rho) / (1.0 + rho), 0.01) << "r = " << r;
+  }
+  // Half a cell a frame and more: the sawtooth's correlation comes back near
+  // whole cells a frame, but the eight coordinates of a pose move at
+  // different speeds; no correlation is assumed.
+  for (const double r : {0.5, 0.95, 2.0}) EXPECT_EQ(quantisation_correlation(r), 0.0) << "r = " << r;
+  EXPECT_EQ(quantisation_correlation(std::nan("")), 0.0);
+  EXPECT_LT(quantisation_correlation(0.0), 1.0);  // bounded: the filter never divides by 1 - rho = 0
+}
+
+TEST(PoseEskf, DifferencesARepeatedReadingAndNotACellCrossing) {
+  // A still head read through coarse cells: the same pose over and over.
+  // The filter predicts the dots standing still (rho near 1) and fuses the
+  // differenced measurement; a reading that jumps (a dot crossed into the
+  // next cell) is not what the autoregressive model expects and is fused
+  // as itself, with its covariance scaled up.
+  PoseEskf f;
+  const Pose still{Mat3::Identity(), Vec3(0, 0, 1000)};
+  const Mat6 cov = diag6(2.0 * kDeg, 10.0);
+  for (int i = 0; i < 100; ++i) f.update(still, cov, 0.01 * i);
+  EXPECT_GT(f.last_error_correlation(), 0.8);
+  EXPECT_TRUE(f.last_differenced());
+  const Pose jumped{rotation_from_ypr(3.0 * kDeg, 0, 0), Vec3(0, 0, 1000)};
+  const Pose p = f.update(jumped, cov, 1.0);
+  EXPECT_FALSE(f.last_differenced());
+  EXPECT_FALSE(f.last_rejected());
+  // Worth 1 / kappa of a white reading: the output moves a little of the way.
+  const double moved = rotation_angle_between(p.R, still.R) / kDeg;
+  EXPECT_GT(moved, 0.0);
+  EXPECT_LT(moved, 0.5);
+  // The gate still judges by the reading's own covariance, not the scaled
+  // one (kappa ~ 18 here, under which 90 deg would pass as a manoeuvre):
+  // 90 deg against 2 deg is an outlier.
+  const Pose wrong{rotation_from_ypr(90.0 * kDeg, 0, 0), Vec3(0, 0, 1000)};
+  f.update(wrong, cov, 1.01);
+  EXPECT_TRUE(f.last_rejected()) << "NIS " << f.last_nis();
+}
+
+TEST(PoseEskf, TakesTheErrorsOfFastDotsAsWhite) {
+  // Dots that cross several cells a frame (a 270 deg/s turn read to a tenth
+  // of a degree): no correlation is assumed and the filter is the white-noise
+  // one to the last bit.
+  EskfParams white;
+  white.correlated_quantisation = false;
+  PoseEskf f, g(white);
+  std::mt19937_64 rng(11);
+  const double w = 270.0 * kDeg;
+  for (int i = 0; i < 100; ++i) {
+    const double t = 0.01 * i;
+    const Pose truth{rotation_from_ypr(w * t, 0, 0), Vec3(0, 0, 1000)};
+    const Pose z = noisy(truth, rng, 0.1 * kDeg, 0.5);
+    const Pose a = f.update(z, diag6(0.1 * kDeg, 0.5), t), b = g.update(z, diag6(0.1 * kDeg, 0.5), t);
+    if (i < 20) continue;  // the first frames do not know the speed yet
+    EXPECT_EQ(f.last_error_correlation(), 0.0) << "frame " << i;
+    EXPECT_EQ(rotation_angle_between(a.R, b.R), 0.0) << "frame " << i;
+  }
+}
+
+TEST(DotTrackerEskf, AveragesMoreOf8PxQuantisationOnASeatedListener) {
+  // The case the model is for: 8-px cells, a slow head. Against the same
+  // filter taking the error as white, on one seated walk with the thesis beacon.
+  const Camera cam = Camera::with_focal(1280);
+  const LedModel model;
+  SimulatorConfig sc;
+  sc.seed = 78;
+  sc.motion = MotionProfile::seated;
+  sc.pixels = PixelModel::quantize8;
+  Simulator sim(cam, model, sc);
+  TrackerConfig white_cfg, corr_cfg;
+  white_cfg.filter = corr_cfg.filter = FilterKind::eskf;
+  white_cfg.eskf.correlated_quantisation = false;
+  DotTracker white(cam, model, white_cfg), corr(cam, model, corr_cfg);
+  AccuracyCollector ew, ec;
+  double rho_sum = 0.0;
+  long n = 0, differenced = 0;
+  for (int i = 0; i < 3000; ++i) {
+    const DotFrame f = sim.next();
+    const TrackResult a = white.process(f), b = corr.process(f);
+    if (leds_seen(f) != 4 || a.state != PoseState::tracking || b.state != PoseState::tracking) continue;
+    ew.add(a.pose, f.truth->pose);
+    ec.add(b.pose, f.truth->pose);
+    rho_sum += corr.eskf().last_error_correlation();
+    differenced += corr.eskf().last_differenced() ? 1 : 0;
+    ++n;
+  }
+  ASSERT_GT(n, 2500);
+  EXPECT_GT(rho_sum / static_cast<double>(n), 0.5);  // seated speeds: a few hundredths of an 8-px cell a frame
+  EXPECT_GT(differenced, n / 4);
+  EXPECT_LT(ec.rotation_deg().rms, 0.92 * ew.rotation_deg().rms);
+  EXPECT_LT(ec.translation_mm().rms, 0.92 * ew.translation_mm().rms);
+}

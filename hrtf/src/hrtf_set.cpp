@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -106,6 +107,11 @@ void shift_earlier(std::span<const float> h, double shift, std::span<float> out)
     const long lo = std::max(0L, -k0), hi = std::min(static_cast<long>(taps.size()), n - k0);
     out[i] = hi > lo ? detail::dot(taps.data() + lo, h.data() + (k0 + lo), static_cast<std::size_t>(hi - lo)) : 0.0f;
   }
+}
+
+/// The unit vector of a direction (SOFA's frame: x ahead, y left, z up).
+Vec3 unit_vector(double azimuth, double elevation) {
+  return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
 }
 
 }  // namespace
@@ -403,17 +409,11 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
   }
   set.shells_ = std::move(shells);
-  set.set_blend_floors(false);
+  set.set_plain_blend(false);
   return set;
 }
 
-void HrtfSet::set_blend_floors(bool plain) {
-  const auto unit = [&](std::size_t m) {
-    const Direction& d = dirs_[m];
-    return Vec3{std::cos(d.elevation) * std::cos(d.azimuth), std::cos(d.elevation) * std::sin(d.azimuth),
-                std::sin(d.elevation)};
-  };
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+void HrtfSet::set_plain_blend(bool plain) {
   for (ShellData& sh : shells_) {
     const SphereTriangulation& tri = *sh.triangulation;
     sh.floor.assign(tri.triangle_count(), 0.0);
@@ -421,20 +421,21 @@ void HrtfSet::set_blend_floors(bool plain) {
     for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
       const auto v = tri.vertices(t);
       std::array<Vec3, 3> p{};
-      for (std::size_t k = 0; k < 3; ++k) p[k] = unit(sh.info.first + v[k]);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const Direction& d = dirs_[sh.info.first + v[k]];
+        p[k] = unit_vector(d.azimuth, d.elevation);
+      }
       double longest = 0.0;  // radians
       for (std::size_t k = 0; k < 3; ++k) {
         const Vec3& a = p[k];
         const Vec3& b = p[(k + 1) % 3];
-        const double c = std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0, 1.0);
-        longest = std::max(longest, std::acos(c));
+        longest = std::max(longest, std::acos(std::clamp(a[0] * b[0] + a[1] * b[1] + a[2] * b[2], -1.0, 1.0)));
       }
-      sh.floor[t] = longest > 0.0 ? std::min(kMaxBlendFloor, kSpectralShiftDeg * kDeg / (2.0 * longest)) : 0.0;
+      const double shift = kSpectralShiftDeg * std::numbers::pi / 180.0;
+      sh.floor[t] = longest > 0.0 ? std::min(kMaxBlendFloor, shift / (2.0 * longest)) : 0.0;
     }
   }
 }
-
-void HrtfSet::set_plain_blend(bool plain) { set_blend_floors(plain); }
 
 HrtfSet::Stored HrtfSet::stored() const {
   Stored s;
@@ -502,14 +503,12 @@ HrtfSet HrtfSet::from_stored(Stored s) {
   set.energies_ = std::move(s.energies);
   set.log_energies_.reserve(M);
   for (const auto& e : set.energies_) set.log_energies_.push_back({std::log(e[0]), std::log(e[1])});
-  set.set_blend_floors(false);
+  set.set_plain_blend(false);
   return set;
 }
 
 Interpolation HrtfSet::interpolate(double azimuth, double elevation, std::uint32_t hint) const {
-  return interpolate(Vec3{std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth),
-                         std::sin(elevation)},
-                     hint);
+  return interpolate(unit_vector(azimuth, elevation), hint);
 }
 
 std::size_t HrtfSet::nearest_shell(double distance_m) const {

@@ -163,9 +163,8 @@ class HrtfSet {
   /// The floor never reaches 1/3, where the centre of a triangle would have
   /// no weight left.
   static constexpr double kMaxBlendFloor = 0.3;
-  /// Triangle t of shell s's floor (0 when the set was told to blend plainly).
-  [[nodiscard]] double blend_floor(std::size_t shell, std::size_t t) const { return shells_[shell].floor[t]; }
-  /// Plain barycentric filter blends (every floor 0), for comparisons.
+  /// Plain barycentric filter blends (every floor 0), for comparisons;
+  /// false restores the floors (what load() sets).
   void set_plain_blend(bool plain);
 
   [[nodiscard]] double sample_rate() const { return rate_; }
@@ -269,10 +268,8 @@ class HrtfSet {
     // triangle's three filters, so a blend's energy costs nine multiplies,
     // not a pass.
     std::vector<std::array<std::array<double, 6>, 2>> gram;
-    std::vector<double> floor;  // [triangle]: the blend floor (kSpectralShiftDeg)
+    std::vector<double> floor;  // [triangle]: the blend floor (kSpectralShiftDeg; set_plain_blend)
   };
-  /// Each triangle's blend floor, from its vertices' directions.
-  void set_blend_floors(bool plain);
   std::vector<ShellData> shells_;  // farthest first
   double removed_delay_s_ = 0.0;
   std::optional<double> parametric_radius_;

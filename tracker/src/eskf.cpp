@@ -170,25 +170,6 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   nu.head<3>() = log_so3(z.R * x_pred.R.transpose());
   nu.tail<3>() = z.t - x_pred.t;
 
-  // The dots' predicted speed in quantisation cells (eskf.hpp): with
-  // cov = sigma^2 (J^T J)^-1 and sigma^2 = Delta^2 / 12, the pose step
-  // d = (w dt, v dt) moves the dots by u = J d, |u|^2 / Delta^2 =
-  // d^T cov^-1 d / 12, sqrt(d^T cov^-1 d / (12 * 8)) per coordinate (RMS).
-  // The velocity's uncertainty adds dt^2 tr(cov^-1 P_vel) to the expected
-  // d^T cov^-1 d: a filter unsure of the speed does not take the dots for still.
-  double rho = 0.0;
-  if (p_.correlated_quantisation) {
-    Cholesky<6> Lc;
-    if (cholesky<6>(cov, Lc)) {
-      Eigen::Matrix<double, 6, 1> d;
-      d.head<3>() = w_ * dt;
-      d.tail<3>() = v_ * dt;
-      const double m2 = mahalanobis2<6>(Lc, d) +
-                        dt * dt * detail::inverse<6>(Lc).cwiseProduct(P_.bottomRightCorner<6, 6>()).sum();
-      rho = quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
-    }
-  }
-
   // The smallest process-noise scale that explains the measurement. Only
   // the pose block of P_pred enters S: the process noise there is diagonal,
   // q dt^3 / 3 per axis.
@@ -216,7 +197,25 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // 4-5 on 8-px pixels; the default walk at 9-11 and walking, whose 2 Hz bob
   // is beyond the constant-velocity model's q, at 17-29.
   nis_avg_ += std::min(1.0, dt / kNisAverageS) * (std::min(nis, p_.manoeuvre_chi2) - nis_avg_);
-  if (nis_avg_ > kConsistentNis) rho = 0.0;
+  // The dots' predicted speed in quantisation cells (eskf.hpp): with
+  // cov = sigma^2 (J^T J)^-1 and sigma^2 = Delta^2 / 12, the pose step
+  // d = (w dt, v dt) moves the dots by u = J d, |u|^2 / Delta^2 =
+  // d^T cov^-1 d / 12, sqrt(d^T cov^-1 d / (12 * 8)) per coordinate (RMS).
+  // The velocity's uncertainty adds dt^2 tr(cov^-1 P_vel) to the expected
+  // d^T cov^-1 d: a filter unsure of the speed does not take the dots for still.
+  double rho = 0.0;
+  if (p_.correlated_quantisation && nis_avg_ <= kConsistentNis) {
+    Cholesky<6> Lc;
+    if (cholesky<6>(cov, Lc)) {
+      Eigen::Matrix<double, 6, 1> d;
+      d.head<3>() = w_ * dt;
+      d.tail<3>() = v_ * dt;
+      const double m2 = mahalanobis2<6>(Lc, d) +
+                        dt * dt * detail::inverse<6>(Lc).cwiseProduct(P_.bottomRightCorner<6, 6>()).sum();
+      rho = quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
+    }
+  }
+
   // The measurement as fused (eskf.hpp): H P and its innovation y, with
   // S = H P H^T + R. For z itself H = [I 0]: the pose rows of P, and nu.
   Eigen::Matrix<double, 6, 12> HP = P_pred.topRows<6>();
@@ -243,10 +242,8 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
         differenced = true;
       }
     }
-    if (!differenced) {  // z itself, worth 1 / kappa of a white measurement
-      S = FPF.topLeftCorner<6, 6>() + ((1.0 + rho) / (1.0 - rho)) * cov;
-      S.diagonal().head<3>().array() += scale * p_.angular_accel_psd * dt3;
-      S.diagonal().tail<3>().array() += scale * p_.linear_accel_psd * dt3;
+    if (!differenced) {  // z itself, worth 1 / kappa of a white measurement: S's cov becomes kappa cov
+      S += ((1.0 + rho) / (1.0 - rho) - 1.0) * cov;
       factored = cholesky<6>(S, L);
     }
   }

@@ -409,15 +409,16 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
     }
   }
   set.shells_ = std::move(shells);
-  set.set_plain_blend(false);
+  set.set_filter_blend(FilterBlend::floored);
   return set;
 }
 
-void HrtfSet::set_plain_blend(bool plain) {
+void HrtfSet::set_filter_blend(FilterBlend blend) {
+  blend_ = blend;
   for (ShellData& sh : shells_) {
     const SphereTriangulation& tri = *sh.triangulation;
     sh.floor.assign(tri.triangle_count(), 0.0);
-    if (plain) continue;
+    if (blend != FilterBlend::floored) continue;
     for (std::size_t t = 0; t < tri.triangle_count(); ++t) {
       const auto v = tri.vertices(t);
       std::array<Vec3, 3> p{};
@@ -503,7 +504,7 @@ HrtfSet HrtfSet::from_stored(Stored s) {
   set.energies_ = std::move(s.energies);
   set.log_energies_.reserve(M);
   for (const auto& e : set.energies_) set.log_energies_.push_back({std::log(e[0]), std::log(e[1])});
-  set.set_plain_blend(false);
+  set.set_filter_blend(FilterBlend::floored);
   return set;
 }
 
@@ -543,6 +544,12 @@ Interpolation HrtfSet::interpolate_in_shell(const Vec3& d, std::size_t shell, st
     for (std::size_t k = 0; k < 3; ++k) sum += kept[k] = std::max(0.0, out.blend.weight[k] - floor);
     if (sum > 0.0)
       for (std::size_t k = 0; k < 3; ++k) out.blend.weight[k] = kept[k] / sum;
+  }
+  if (blend_ == FilterBlend::nearest) {
+    const auto& b = out.barycentric;
+    const auto k = static_cast<std::size_t>(std::max_element(b.begin(), b.end()) - b.begin());
+    out.blend.weight = {};
+    out.blend.weight[k] = 1.0;
   }
   const std::array<double, 3>& w = out.blend.weight;
   for (std::size_t ear = 0; ear < 2; ++ear) {

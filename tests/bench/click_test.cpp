@@ -8,7 +8,10 @@
 // Prints markdown for docs/BENCHMARKS.md.
 //
 //   click_test [--seconds 5] [--skip 0.5] [--wav-dir DIR] [--require-db -60]
+//              [--blend floored|plain|nearest]
 //
+// --blend: Earshot's filter blend (HrtfSet::FilterBlend; floored is the
+// default).
 // --require-db: exit 1 when Earshot's turning-head ratio on either ear is
 // above that level (a quality check, not a timing one).
 #include <kiss_fftr.h>
@@ -19,6 +22,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -189,13 +193,20 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--wav-dir", wav_dir, "write each render there as a float WAV");
   app.add_option("--require-db", require_db, "fail when Earshot's turning ratio exceeds this (dB)");
+  using Blend = earshot::hrtf::HrtfSet::FilterBlend;
+  Blend blend = Blend::floored;
+  app.add_option("--blend", blend, "Earshot's filter blend: floored (the default), plain or nearest")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, Blend>{{"floored", Blend::floored}, {"plain", Blend::plain}, {"nearest", Blend::nearest}}));
   CLI11_PARSE(app, argc, argv);
 
   try {
     const auto blocks = std::size_t(std::ceil(seconds * kRate / double(kBlock)));
     constexpr std::size_t kNfft = 4096;
     const std::size_t from = std::min(std::size_t(skip * kRate), blocks * kBlock - std::min(blocks * kBlock, kNfft));
-    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kRate));
+    auto set = std::make_shared<earshot::hrtf::HrtfSet>(earshot::hrtf::HrtfSet::load_default(kRate));
+    set->set_filter_blend(blend);
+    const std::shared_ptr<const earshot::hrtf::HrtfSet> hrtf = std::move(set);
     Welch welch(kNfft);
 
     struct Run {

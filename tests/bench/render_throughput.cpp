@@ -10,7 +10,8 @@
 //   render_throughput [--sources 1,8,32,64,128,256] [--max-sources N]
 //                     [--seconds 2] [--min-cpu 1] [--repeat 3] [--still]
 //                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
-//                     [--hrtf FILE.sofa] [--no-near-field] [--plain-blend]
+//                     [--hrtf FILE.sofa] [--no-near-field]
+//                     [--blend floored|plain|nearest]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
@@ -28,6 +29,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -242,9 +244,13 @@ int main(int argc, char** argv) {
   app.add_option("--repeat", repeat, "measurements per point; the best is kept")->check(CLI::Range(1, 100));
   app.add_flag("--still", budget.still, "sources stay put (the cost without filter updates)");
   app.add_flag("!--no-near-field", budget.near_field, "Earshot without its near field (what it costs)");
-  bool plain_blend = false;
-  app.add_flag("--plain-blend", plain_blend,
-               "Earshot blends the filters with plain barycentric weights (no blend floor: what the floor saves)");
+  using Blend = earshot::hrtf::HrtfSet::FilterBlend;
+  Blend blend = Blend::floored;
+  app.add_option("--blend", blend,
+                 "Earshot's filter blend: floored (the default), plain (barycentric: what the floor saves), "
+                 "nearest (one measurement per ear: what one convolution per ear would cost)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, Blend>{{"floored", Blend::floored}, {"plain", Blend::plain}, {"nearest", Blend::nearest}}));
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
   std::string only = "both", csv_path, hrtf_path;
   app.add_option("--hrtf", hrtf_path, "Earshot's SOFA set (default: MIT KEMAR); OpenAL Soft keeps its own");
@@ -262,7 +268,7 @@ int main(int argc, char** argv) {
   try {
     auto set = std::make_shared<earshot::hrtf::HrtfSet>(
         hrtf_path.empty() ? earshot::hrtf::HrtfSet::load_default(kRate) : earshot::hrtf::HrtfSet::load(hrtf_path, kRate));
-    if (plain_blend) set->set_plain_blend(true);
+    set->set_filter_blend(blend);
     const std::shared_ptr<const earshot::hrtf::HrtfSet> hrtf = std::move(set);
     std::fprintf(stderr, "render_throughput: Earshot's set %s, %zu directions, %zu-tap filters at %d Hz\n",
                  hrtf_path.empty() ? earshot::hrtf::HrtfSet::kDefaultPath : hrtf_path.c_str(), hrtf->measurement_count(),

@@ -339,13 +339,37 @@ TEST(HrtfSet, BlendFloorMovesOnlyTheSpectralDetailAndByAtMostItsAngle) {
 
 TEST(HrtfSet, PlainBlendKeepsTheBarycentricWeights) {
   HrtfSet s = kemar48();
-  s.set_plain_blend(true);
+  s.set_filter_blend(HrtfSet::FilterBlend::plain);
   std::mt19937 rng(12);
   std::uniform_real_distribution<double> az(-180, 180), el(-90, 90);
   for (int k = 0; k < 500; ++k) {
     const Interpolation in = s.interpolate(az(rng) * kDeg, el(rng) * kDeg);
     for (std::size_t v = 0; v < 3; ++v) ASSERT_EQ(in.blend.weight[v], in.barycentric[v]) << k;
   }
+}
+
+TEST(HrtfSet, NearestBlendTakesTheMeasurementWithTheLargestWeightAlone) {
+  HrtfSet s = kemar48();
+  const HrtfSet& floored = kemar48();
+  s.set_filter_blend(HrtfSet::FilterBlend::nearest);
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> az(-180, 180), el(-40, 90);
+  for (int k = 0; k < 500; ++k) {
+    const double a = az(rng) * kDeg, e = el(rng) * kDeg;
+    const Interpolation in = s.interpolate(a, e);
+    const auto& b = in.barycentric;
+    const auto top = static_cast<std::size_t>(std::max_element(b.begin(), b.end()) - b.begin());
+    for (std::size_t v = 0; v < 3; ++v) ASSERT_EQ(in.blend.weight[v], v == top ? 1.0 : 0.0) << k;
+    // The cues that do not depend on the filter blend stay where they were.
+    const Interpolation ref = floored.interpolate(a, e);
+    EXPECT_EQ(in.delays.left_s, ref.delays.left_s) << k;
+    EXPECT_EQ(in.delays.right_s, ref.delays.right_s) << k;
+    EXPECT_EQ(in.energy[0], ref.energy[0]) << k;
+  }
+  s.set_filter_blend(HrtfSet::FilterBlend::floored);
+  EXPECT_EQ(s.filter_blend(), HrtfSet::FilterBlend::floored);
+  const Interpolation back = s.interpolate(0.3, 0.1), ref = floored.interpolate(0.3, 0.1);
+  for (std::size_t v = 0; v < 3; ++v) EXPECT_EQ(back.blend.weight[v], ref.blend.weight[v]);
 }
 
 TEST(HrtfSet, FlooredWeightsAreContinuousAcrossTriangles) {

@@ -163,9 +163,21 @@ class HrtfSet {
   /// The floor never reaches 1/3, where the centre of a triangle would have
   /// no weight left.
   static constexpr double kMaxBlendFloor = 0.3;
-  /// Plain barycentric filter blends (every floor 0), for comparisons;
-  /// false restores the floors (what load() sets).
-  void set_plain_blend(bool plain);
+  /// How the filters of a direction's triangle are mixed. The ITD and each
+  /// ear's broadband level always take the plain barycentric weights; only
+  /// the spectral detail differs. load() and from_stored() set `floored`.
+  enum class FilterBlend {
+    floored,  ///< weights below the triangle's floor fade out (above): the default
+    plain,    ///< the barycentric weights, three filters inside a triangle (for comparisons)
+    /// The measurement with the largest barycentric weight alone: one filter
+    /// per ear, the spectral detail jumping at the bisectors between
+    /// measurements (a renderer's gains still ramp across a block, so the
+    /// jump is a one-block crossfade, as OpenAL Soft does it). For the
+    /// throughput bench: what one convolution per ear would cost.
+    nearest,
+  };
+  void set_filter_blend(FilterBlend blend);
+  [[nodiscard]] FilterBlend filter_blend() const { return blend_; }
 
   [[nodiscard]] double sample_rate() const { return rate_; }
   /// Taps of every onset-free filter: the responses' length plus room for
@@ -268,9 +280,10 @@ class HrtfSet {
     // triangle's three filters, so a blend's energy costs nine multiplies,
     // not a pass.
     std::vector<std::array<std::array<double, 6>, 2>> gram;
-    std::vector<double> floor;  // [triangle]: the blend floor (kSpectralShiftDeg; set_plain_blend)
+    std::vector<double> floor;  // [triangle]: the blend floor (kSpectralShiftDeg; set_filter_blend)
   };
   std::vector<ShellData> shells_;  // farthest first
+  FilterBlend blend_ = FilterBlend::floored;
   double removed_delay_s_ = 0.0;
   std::optional<double> parametric_radius_;
 };

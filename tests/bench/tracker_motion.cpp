@@ -4,7 +4,7 @@
 //
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
-//                  [--misses [--flip-log] [--variety]]
+//                  [--excess] [--misses [--flip-log] [--variety]]
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -14,6 +14,9 @@
 // Rows: raw LM (no filter), One Euro (today's default), eskf, eskf + RTS
 // (offline), the per-frame ML limit (LM from the true pose, true labels).
 // Errors are over frames with all four LEDs seen (as tracker_accuracy).
+// --excess splits raw LM's squared rotation error beyond the ML limit's by
+// what went wrong on each frame (wrong labels, a dot left out, another
+// minimum of the reprojection error) and lists the frames far off it.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -322,6 +325,7 @@ void misses(const Options& o) {
           tc.filter = FilterKind::eskf;
           DotTracker tr(cam, b.model, tc);
           bool was_tracking = false, was_flipped = false;
+          long flip_frames = 0;  // frames of the flip under way
           for (long i = 0; i < o.frames; ++i) {
             const DotFrame f = sim.next();
             speed.add(f.truth->pose, f.t);
@@ -360,6 +364,11 @@ void misses(const Options& o) {
                             labels_ok ? "right" : "wrong", raw_deg,
                             rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px, r.track_frames,
                             r.acquired_dots, wrong_branch ? "wrong" : "right");
+            }
+            if (flip) ++flip_frames;
+            if (was_flipped && !flip) {
+              if (o.flip_log) std::printf("  (%ld frames flipped)\n", flip_frames);
+              flip_frames = 0;
             }
             was_flipped = flip;
             if (leds >= 3) {
@@ -448,7 +457,7 @@ int main(int argc, char** argv) {
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

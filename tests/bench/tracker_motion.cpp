@@ -4,7 +4,7 @@
 //
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
-//                  [--misses [--flip-log] [--variety]]
+//                  [--excess] [--misses [--flip-log] [--variety]]
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -14,6 +14,9 @@
 // Rows: raw LM (no filter), One Euro (today's default), eskf, eskf + RTS
 // (offline), the per-frame ML limit (LM from the true pose, true labels).
 // Errors are over frames with all four LEDs seen (as tracker_accuracy).
+// --excess splits raw LM's squared rotation error beyond the ML limit's by
+// what went wrong on each frame (wrong labels, a dot left out, another
+// minimum of the reprojection error) and lists the frames far off it.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -68,6 +71,7 @@ struct Options {
   bool misses = false;          ///< only the table of untracked frames by cause
   bool flip_log = false;        ///< with --misses: one line per flip event, with its context
   bool variety = false;         ///< with --misses: the rows of a third beacon and 30 % dropouts instead
+  bool excess = false;          ///< raw LM's squared error beyond the ML limit's, by what went wrong
 };
 
 LabelledDots true_labels(const DotFrame& f) {
@@ -78,6 +82,17 @@ LabelledDots true_labels(const DotFrame& f) {
 }
 
 enum Row { kRaw, kEuro, kEskf, kRts, kMl, kRows };
+
+/// Where raw LM's error beyond the per-frame ML limit comes from (4-LED
+/// frames raw LM tracks): a dot given the wrong LED, a fourth LED's dot left
+/// out (three used), the right four dots but another minimum of the
+/// reprojection error than the one LM from the truth finds, or the same one.
+enum Excess { kExLabels, kExThree, kExBranch, kExSame, kExKinds };
+constexpr const char* kExNames[kExKinds] = {"wrong labels", "3 of 4 dots used", "4 dots, other minimum", "4 dots, same minimum"};
+struct ExcessTally {
+  std::array<long, kExKinds> n{};
+  std::array<double, kExKinds> raw2{}, ml2{};
+};
 constexpr const char* kRowNames[kRows] = {"lm, raw", "lm + One Euro", "lm + eskf", "lm + eskf + RTS (offline)",
                                           "per-frame ML limit"};
 
@@ -88,6 +103,7 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
   SpeedCollector speed;
   long eskf_updates = 0, manoeuvres = 0, rejected = 0;
   double pixel_var_sum = 0.0;
+  ExcessTally ex;
   for (const auto seed : o.seeds) {
     SimulatorConfig cfg;
     cfg.seed = seed;
@@ -118,7 +134,29 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
         }
         if (four && r.state == PoseState::tracking) acc[row].err.add(r.pose, f.truth->pose);
       };
-      tally(kRaw, raw.process(f));
+      const TrackResult rr = raw.process(f);
+      tally(kRaw, rr);
+      if (o.excess && four && rr.state == PoseState::tracking) {
+        const LabelledDots d = true_labels(f);
+        const Pose ml = refine_pose_lm(f.truth->pose, d.view(), cam, b.model).pose;
+        bool labels_ok = true;
+        for (size_t s = 0; s < kSlots; ++s)
+          if (rr.slot_led[s] >= 0 && rr.slot_led[s] != f.truth->slot_led[s] - 1) labels_ok = false;
+        const double er = rotation_angle_between(rr.pose.R, f.truth->pose.R) * 180.0 / M_PI;
+        const double em = rotation_angle_between(ml.R, f.truth->pose.R) * 180.0 / M_PI;
+        Excess k = kExSame;
+        if (!labels_ok) k = kExLabels;
+        else if (rr.dots_used < 4) k = kExThree;
+        else if (rotation_angle_between(refine_pose_lm(rr.pose, d.view(), cam, b.model).pose.R, ml.R) > 2.0 * M_PI / 180.0)
+          k = kExBranch;
+        ++ex.n[k];
+        ex.raw2[k] += er * er;
+        ex.ml2[k] += em * em;
+        if (k != kExSame && er > 2.0 * em + 5.0)
+          std::printf("excess seed %llu frame %zu: %s, raw %.1f deg off, ML %.1f, %d dots seen, track %d frames from %d dots, rms %.2f px\n",
+                      static_cast<unsigned long long>(seed), i, kExNames[k], er, em, f.visible(), rr.track_frames,
+                      rr.acquired_dots, rr.rms_px);
+      }
       tally(kEuro, euro.process(f));
       const TrackResult re = eskf.process(f);
       tally(kEskf, re);
@@ -163,6 +201,13 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
   std::printf("\neskf: pixel variance %.3f px^2 (mean of the seeds' final estimates), larger process noise on %.2f %% of frames, "
               "%.2f %% skipped as outliers\n",
               pixel_var_sum / static_cast<double>(o.seeds.size()), pct(manoeuvres), pct(rejected));
+  if (o.excess) {
+    const double n4 = static_cast<double>(acc[kRaw].err.rotation_deg().count);
+    std::printf("\nraw LM's squared rotation error against the ML limit's, by kind (sums / 4-dot frames raw tracks):\n\n| kind | frames | raw mean sq (deg^2) | ML mean sq | excess share of raw MS |\n|---|---|---|---|---|\n");
+    for (int k = 0; k < kExKinds; ++k)
+      std::printf("| %s | %ld | %.3f | %.3f | %.3f |\n", kExNames[k], ex.n[static_cast<size_t>(k)], ex.raw2[static_cast<size_t>(k)] / std::max(1.0, n4),
+                  ex.ml2[static_cast<size_t>(k)] / std::max(1.0, n4), (ex.raw2[static_cast<size_t>(k)] - ex.ml2[static_cast<size_t>(k)]) / std::max(1.0, n4));
+  }
   std::fflush(stdout);
 }
 
@@ -280,6 +325,7 @@ void misses(const Options& o) {
           tc.filter = FilterKind::eskf;
           DotTracker tr(cam, b.model, tc);
           bool was_tracking = false, was_flipped = false;
+          long flip_frames = 0;  // frames of the flip under way
           for (long i = 0; i < o.frames; ++i) {
             const DotFrame f = sim.next();
             speed.add(f.truth->pose, f.t);
@@ -318,6 +364,11 @@ void misses(const Options& o) {
                             labels_ok ? "right" : "wrong", raw_deg,
                             rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px, r.track_frames,
                             r.acquired_dots, wrong_branch ? "wrong" : "right");
+            }
+            if (flip) ++flip_frames;
+            if (was_flipped && !flip) {
+              if (o.flip_log) std::printf("  (%ld frames flipped)\n", flip_frames);
+              flip_frames = 0;
             }
             was_flipped = flip;
             if (leds >= 3) {
@@ -399,12 +450,14 @@ int main(int argc, char** argv) {
       o.misses = true;
     } else if (a == "--flip-log") {
       o.flip_log = true;
+    } else if (a == "--excess") {
+      o.excess = true;
     } else if (a == "--variety") {
       o.variety = true;
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

@@ -20,7 +20,8 @@ constexpr double kChi2TwoDof999 = 13.8;
 /// Two poses whose likelihoods given the prediction differ by less than
 /// 100 : 1 (half the difference of their squared Mahalanobis distances
 /// below ln 100) cannot be told apart by motion continuity.
-constexpr double kAmbiguousChi2Gap = 2.0 * 4.605;
+constexpr double kAmbiguousLogRatio = 4.605;
+constexpr double kAmbiguousChi2Gap = 2.0 * kAmbiguousLogRatio;
 /// 4-dot fits after which the pixel noise estimate is trusted to judge a fit
 /// (its running mean has settled to ~10 %: the variance of a 2-dof chi-square
 /// sample mean falls as 1/n).
@@ -100,6 +101,7 @@ struct DotTracker::Hypothesis {
   Pose pose;
   ConstantVelocity cv;
   double cost_sum = 0.0;  ///< sum of squared RMS reprojection errors
+  double ssr_sum = 0.0;   ///< sum of squared residuals over every dot it has explained (px^2)
   int frames = 0;
   long id = 0;  ///< which hypothesis this is (the eskf restarts when the output changes hypothesis)
   double rms = 0.0;
@@ -325,6 +327,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     h.dots = lab->dots.count;
     h.slot_led = lab->slot_led;
     h.cost_sum += rms * rms;
+    h.ssr_sum += lab->dots.count * rms * rms;
     ++h.frames;
     any_ok = true;
   }
@@ -355,6 +358,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       h.cv.observe(l.pose, frame.t);
       h.rms = l.rms_px;
       h.cost_sum = l.rms_px * l.rms_px;
+      h.ssr_sum = l.dots.count * l.rms_px * l.rms_px;
       h.frames = 1;
       h.dots = l.dots.count;
       h.slot_led = l.slot_led;
@@ -435,6 +439,32 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   }
   // A 3-dot frame whose P3P roots motion cannot tell apart is not given out.
   if (best && best->ambiguous) best = nullptr;
+  // Nor is a pose whose rival explanation of the same dots is about as
+  // likely and another answer: after a loss, four dots of a near-symmetric
+  // beacon can fit two labellings within the pixel noise (on 8-px pixels a
+  // 137 deg turn fitting 1.09 px RMS against the truth's 1.41). Each further
+  // frame adds its squared residuals over the pixel variance to each
+  // hypothesis's log-likelihood; the output waits until the evidence for the
+  // best is 100 : 1 (a sequential probability ratio test) or the rival has
+  // gone. A rival within the best pose's own uncertainty (chi-square, 6
+  // degrees of freedom, 99.9 %) is the same answer: coarse pixels leave two
+  // nearby minima of the error, and either is as good as the noise allows.
+  if (best) {
+    std::optional<Mat6> cov;
+    for (const auto& h : hyps_) {
+      if (&h == best || h.dots == 0 || (h.ssr_sum - best->ssr_sum) / (2.0 * var) >= kAmbiguousLogRatio) continue;
+      if (!cov) {
+        LabelledDots dots;
+        for (size_t s = 0; s < kSlots; ++s)
+          if (best->slot_led[s] >= 0 && frame.slots[s]) dots.add(best->slot_led[s], *frame.slots[s]);
+        cov = pose_covariance(best->pose, dots.view(), cam_, model_, var);
+      }
+      if (!(mahalanobis2(h.pose, best->pose, *cov) <= kChi2SixDof999)) {
+        best = nullptr;
+        break;
+      }
+    }
+  }
   if (best) {
     r.state = PoseState::tracking;
     r.raw_pose = best->pose;

@@ -21,6 +21,13 @@
 // state carried across the gap (an Ornstein-Uhlenbeck velocity, with the
 // largest process noise its manoeuvre test tries) must put it within the
 // 99.9 % bound of chi-square with 6 degrees of freedom.
+//
+// Rival explanations of four dots (another labelling, or a pose outside the
+// best one's own uncertainty) compete on their summed squared residuals; the
+// pose is not given out until the evidence for one is 100 : 1 under the
+// learnt pixel noise (a sequential probability ratio test) or the rival has
+// gone: with coarse pixels a wrong labelling can fit one frame better than
+// the truth.
 #pragma once
 
 #include <memory>

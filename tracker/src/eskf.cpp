@@ -29,6 +29,21 @@ constexpr double kDifferencedNis = 6.0;
 constexpr double kNisAverageS = 1.0;
 constexpr double kConsistentNis = 6.0;
 
+// Adaptive process noise (eskf.hpp). Each block's NIS is chi^2(3), mean 3;
+// a sample counts at most its 99.9 % point.
+constexpr double kBlockDof = 3.0;
+constexpr double kBlockNisClip = 16.0;
+// The scales span the literature q to the manoeuvre test's first step.
+constexpr double kManoeuvreStep = 10.0;
+constexpr double kMaxAdaptiveScale = kManoeuvreStep;
+// How far the innovations' lag-one correlation must exceed the
+// quantisation's for the scale to rise: ~7 standard deviations of a 1-s
+// mean of white innovations' (sqrt(0.005 / 3) ~ 0.04 at 100 Hz). 0.1 and
+// 0.2 on the tuning seeds let 8-px rows' scales rise on measurement noise.
+constexpr double kLagMargin = 0.3;
+// The correlated-quantisation model wants the literature's motion model.
+constexpr double kQuietScale = 1.5;
+
 }  // namespace
 
 Mat12 eskf_transition(const Mat3& exp_w_dt, double dt) {
@@ -83,6 +98,21 @@ void add_process_noise(Mat12& P, double qa, double ql, double dt) {
   }
 }
 
+/// L^-1 x for A = L L^T, a block of S: x whitened, |L^-1 x|^2 its NIS.
+/// Zero when A is not positive definite (no evidence either way).
+Vec3 whiten(const Mat3& A, const Vec3& x) {
+  Cholesky<3> f;
+  if (cholesky<3>(A, f)) return forward_solve<3>(f, x);
+  return Vec3::Zero();
+}
+
+/// x^T A^-1 x for a 3 x 3 block of S (semi-definite: its LDLT solve).
+double block_nis(const Mat3& A, const Vec3& x) {
+  Cholesky<3> f;
+  if (cholesky<3>(A, f)) return mahalanobis2<3>(f, x);
+  return x.dot(A.ldlt().solve(x));
+}
+
 /// The pose an error (dtheta, dp) away from x.
 Pose inject(const Pose& x, const Vec3& dtheta, const Vec3& dp) { return {exp_so3(dtheta) * x.R, x.t + dp}; }
 
@@ -128,6 +158,7 @@ void PixelNoiseEstimator::add(double sum_sq_px, int dots) {
 
 void PoseEskf::start(const Pose& z, const Mat6& cov, double t) {
   x_ = z;
+  have_u_prev_ = false;
   nis_avg_ = 6.0;
   z_prev_ = z;
   have_z_prev_ = true;
@@ -164,31 +195,42 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   }
   const Mat3 A = exp_so3(w_ * dt);
   const Pose x_pred{A * x_.R, x_.t + v_ * dt};
+  const double qa = lambda_rot_ * p_.angular_accel_psd, ql = lambda_trans_ * p_.linear_accel_psd;
   const Mat12 FPF = propagate(P_, A, dt);
 
   Eigen::Matrix<double, 6, 1> nu;
   nu.head<3>() = log_so3(z.R * x_pred.R.transpose());
   nu.tail<3>() = z.t - x_pred.t;
 
-  // The smallest process-noise scale that explains the measurement. Only
-  // the pose block of P_pred enters S: the process noise there is diagonal,
-  // q dt^3 / 3 per axis.
+  // The smallest process-noise scale that explains the measurement: the
+  // adaptive q first, then 10, 100, 1000 times the literature's (never less
+  // than the adaptive one). Only the pose block of P_pred enters S: the
+  // process noise there is diagonal, q dt^3 / 3 per axis.
   const double dt3 = dt * dt * dt / 3.0;
   Mat6 S;
   Cholesky<6> L;
-  double nis = 0.0, scale = 1.0;
+  double nis = 0.0, scale = 1.0, q_rot = qa, q_trans = ql;
   bool factored = false;
-  for (scale = 1.0; scale <= kMaxScale; scale *= 10.0) {
+  for (scale = 1.0; scale <= kMaxScale; scale *= kManoeuvreStep) {
+    q_rot = std::max(qa, scale * p_.angular_accel_psd);
+    q_trans = std::max(ql, scale * p_.linear_accel_psd);
+    if (scale > 1.0 && q_rot == qa && q_trans == ql) continue;  // no larger than the adaptive q: tried
     S = FPF.topLeftCorner<6, 6>() + cov;
-    S.diagonal().head<3>().array() += scale * p_.angular_accel_psd * dt3;
-    S.diagonal().tail<3>().array() += scale * p_.linear_accel_psd * dt3;
+    S.diagonal().head<3>().array() += q_rot * dt3;
+    S.diagonal().tail<3>().array() += q_trans * dt3;
     factored = cholesky<6>(S, L);
     nis = factored ? mahalanobis2<6>(L, nu) : nu.dot(S.ldlt().solve(nu));
+    if (scale == 1.0) {  // the blocks' evidence for the adaptive scales, at the q the model claims
+      nis_rot_ = block_nis(S.topLeftCorner<3, 3>(), nu.head<3>());
+      nis_trans_ = block_nis(S.bottomRightCorner<3, 3>(), nu.tail<3>());
+      u_rot_ = whiten(S.topLeftCorner<3, 3>(), nu.head<3>());
+      u_trans_ = whiten(S.bottomRightCorner<3, 3>(), nu.tail<3>());
+    }
     if (nis <= p_.manoeuvre_chi2) break;
   }
   scale = std::min(scale, kMaxScale);
   Mat12 P_pred = FPF;
-  add_process_noise(P_pred, scale * p_.angular_accel_psd, scale * p_.linear_accel_psd, dt);
+  add_process_noise(P_pred, q_rot, q_trans, dt);
   // The correlated model leans on the motion model for longer; that is only
   // right while the motion model is as good as it claims: the NIS averaged
   // over the last second no more than its expectation, the dimension 6 (a
@@ -203,8 +245,10 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // d^T cov^-1 d / 12, sqrt(d^T cov^-1 d / (12 * 8)) per coordinate (RMS).
   // The velocity's uncertainty adds dt^2 tr(cov^-1 P_vel) to the expected
   // d^T cov^-1 d: a filter unsure of the speed does not take the dots for still.
-  double rho = 0.0;
-  if (p_.correlated_quantisation && nis_avg_ <= kConsistentNis) {
+  // The correlation is predicted whether or not the correlated model may
+  // use it: the adaptive scales compare the innovations' own with it.
+  quant_rho_ = 0.0;
+  if (p_.correlated_quantisation || p_.adaptive_process_noise) {
     Cholesky<6> Lc;
     if (cholesky<6>(cov, Lc)) {
       Eigen::Matrix<double, 6, 1> d;
@@ -212,9 +256,11 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
       d.tail<3>() = v_ * dt;
       const double m2 = mahalanobis2<6>(Lc, d) +
                         dt * dt * detail::inverse<6>(Lc).cwiseProduct(P_.bottomRightCorner<6, 6>()).sum();
-      rho = quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
+      quant_rho_ = quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
     }
   }
+  const bool quiet = lambda_rot_ <= kQuietScale && lambda_trans_ <= kQuietScale;
+  const double rho = p_.correlated_quantisation && nis_avg_ <= kConsistentNis && quiet ? quant_rho_ : 0.0;
 
   // The measurement as fused (eskf.hpp): H P and its innovation y, with
   // S = H P H^T + R. For z itself H = [I 0]: the pose rows of P, and nu.
@@ -258,19 +304,24 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   step_.P_pred = P_pred;
   step_.rotation = A;
   step_.dt = dt;
+  step_.q_rot = q_rot;
+  step_.q_trans = q_trans;
   step_.restart = false;
 
   if (!(nis <= p_.outlier_chi2)) {  // no head motion explains it: skip the measurement
     rejected_ = true;
     have_z_prev_ = false;  // the next measurement has no neighbour to be differenced with
+    have_u_prev_ = false;  // nor innovation to be correlated with
     if (++rejected_run_ >= 3) {
       start(z, cov, t);
       return x_;
     }
     x_ = x_pred;
     P_ = FPF;  // the model's own uncertainty, not the inflated one tried
-    add_process_noise(P_, p_.angular_accel_psd, p_.linear_accel_psd, dt);
+    add_process_noise(P_, qa, ql, dt);
     step_.P_pred = P_;
+    step_.q_rot = qa;
+    step_.q_trans = ql;
     t_ = t;
     step_.pose_upd = x_;
     step_.w_upd = w_;
@@ -282,6 +333,7 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   rejected_run_ = 0;
   z_prev_ = z;
   have_z_prev_ = true;
+  adapt(dt);
 
   // With S = L L^T: K = P H^T S^-1 = B^T L^-1 for B = L^-1 (H P) (6 x 12);
   // the correction K y = B^T (L^-1 y) and P = P_pred - K H P_pred =
@@ -328,9 +380,33 @@ std::optional<Mat6> PoseEskf::predicted_pose_covariance(double t) const {
   const Mat6 Pxv = P_.block<6, 6>(0, 6);
   Mat6 S = P_.topLeftCorner<6, 6>() + dt * (Pxv + Pxv.transpose()) + (dt * dt) * P_.bottomRightCorner<6, 6>();
   const double dt3 = dt * dt * dt / 3.0;
-  S.diagonal().head<3>().array() += p_.angular_accel_psd * dt3;
-  S.diagonal().tail<3>().array() += p_.linear_accel_psd * dt3;
+  S.diagonal().head<3>().array() += lambda_rot_ * p_.angular_accel_psd * dt3;
+  S.diagonal().tail<3>().array() += lambda_trans_ * p_.linear_accel_psd * dt3;
   return S;
+}
+
+void PoseEskf::adapt(double dt) {
+  const double g = std::min(1.0, dt / p_.adaptation_s);
+  // The whitened innovations' lag-one correlation: 0 for an optimal filter,
+  // positive when it lags (or when the quantisation correlates the errors).
+  auto correlate = [&](double& mean, const Vec3& u, const Vec3& u_prev) {
+    if (have_u_prev_) mean += g * (std::clamp(u.dot(u_prev) / kBlockDof, -2.0, 2.0) - mean);
+  };
+  correlate(lag_corr_rot_, u_rot_, u_rot_prev_);
+  correlate(lag_corr_trans_, u_trans_, u_trans_prev_);
+  u_rot_prev_ = u_rot_;
+  u_trans_prev_ = u_trans_;
+  have_u_prev_ = true;
+  if (!p_.adaptive_process_noise) return;
+  // log lambda follows (NIS / 3 - 1) / T: a stochastic approximation of
+  // E[NIS] = 3, rising only on persistent (lagging) innovations.
+  auto follow = [&](double& lambda, double nis, double lag_corr) {
+    double e = std::min(nis, kBlockNisClip) / kBlockDof - 1.0;
+    if (lag_corr <= quant_rho_ + kLagMargin) e = std::min(e, 0.0);
+    lambda = std::clamp(lambda * std::exp(g * e), 1.0, kMaxAdaptiveScale);
+  };
+  follow(lambda_rot_, nis_rot_, lag_corr_rot_);
+  follow(lambda_trans_, nis_trans_, lag_corr_trans_);
 }
 
 void RtsSmoother::add(const EskfStep& step) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <random>
+#include <string>
 
 #include "earshot/tracker/accuracy.hpp"
 #include "earshot/tracker/dot_tracker.hpp"
@@ -341,4 +342,158 @@ TEST(DotTrackerEskf, AveragesMoreOf8PxQuantisationOnASeatedListener) {
   EXPECT_GT(differenced, n / 4);
   EXPECT_LT(ec.rotation_deg().rms, 0.92 * ew.rotation_deg().rms);
   EXPECT_LT(ec.translation_mm().rms, 0.92 * ew.translation_mm().rms);
+}
+
+namespace {
+
+/// A head whose position follows an Ornstein-Uhlenbeck velocity (RMS
+/// speed_mm_s per axis, correlation 1 s: acceleration spectral density
+/// 2 speed^2 / 1 s), its orientation still, read with white Gaussian noise
+/// of the sigmas its covariance claims times `noise_factor`.
+struct OuHead {
+  std::mt19937_64 rng;
+  Vec3 p{0, 0, 1000}, v = Vec3::Zero();
+  explicit OuHead(std::uint64_t seed) : rng(seed) {}
+  Pose step(double speed_mm_s, double dt) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    for (int a = 0; a < 3; ++a) {
+      v[a] += -v[a] * dt + speed_mm_s * std::sqrt(2.0 * dt) * n(rng);
+      p[a] += v[a] * dt;
+    }
+    return {rotation_from_ypr(0.2, 0.1, 0.0), p};
+  }
+};
+
+constexpr double kRotSigma = 0.2 * kDeg, kTransSigma = 1.0;
+
+EskfParams fixed_q() {
+  EskfParams p;
+  p.adaptive_process_noise = false;
+  return p;
+}
+
+}  // namespace
+
+TEST(PoseEskfAdaptive, ProcessNoiseFollowsAHeadWhoseTranslationSpeedsUp) {
+  // 20 s at the literature's translation (50 mm/s RMS, q = 5000 mm^2/s^3),
+  // then 40 s at 150 mm/s (q = 45000, the `walk` simulation's). The fixed-q
+  // filter's translation NIS then sits well above its mean of 3 and it lags;
+  // the adaptive one raises its q until its innovations are nearly white
+  // (the NIS comes down toward 3) and its error falls below the fixed one's.
+  // The rotation, still, keeps its q.
+  for (const std::uint64_t seed : {31u, 131u, 231u}) {
+    OuHead head(seed);
+    std::mt19937_64 rng(seed + 1);
+    PoseEskf adaptive, fixed(fixed_q());
+    const Mat6 cov = diag6(kRotSigma, kTransSigma);
+    double max_scale_slow = 0.0, max_rot_scale = 0.0;
+    double nis_a = 0.0, nis_f = 0.0, err_a = 0.0, err_f = 0.0, scale = 0.0;
+    int n = 0;
+    for (int i = 0; i < 6000; ++i) {
+      const double t = 0.01 * i;
+      const Pose truth = head.step(i < 2000 ? 50.0 : 150.0, 0.01);
+      const Pose z = noisy(truth, rng, kRotSigma, kTransSigma);
+      const Pose a = adaptive.update(z, cov, t), f = fixed.update(z, cov, t);
+      max_rot_scale = std::max(max_rot_scale, adaptive.rotation_noise_scale());
+      if (i >= 500 && i < 2000) max_scale_slow = std::max(max_scale_slow, adaptive.translation_noise_scale());
+      if (i < 4000) continue;  // the last 20 s of the fast phase
+      nis_a += adaptive.last_translation_nis();
+      nis_f += fixed.last_translation_nis();
+      scale += adaptive.translation_noise_scale();
+      err_a += (a.t - truth.t).squaredNorm();
+      err_f += (f.t - truth.t).squaredNorm();
+      ++n;
+    }
+    nis_a /= n;
+    nis_f /= n;
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    EXPECT_LT(max_scale_slow, 1.2) << "a head moving as the literature says keeps its q";
+    EXPECT_LT(max_rot_scale, 1.2) << "the still rotation keeps its q";
+    EXPECT_GT(nis_f, 4.5);
+    EXPECT_GT(nis_a, 2.0);
+    EXPECT_LT(nis_a, nis_f - 0.5);
+    EXPECT_GT(scale / n, 1.5);
+    EXPECT_LT(std::sqrt(err_a / n), 0.92 * std::sqrt(err_f / n));
+  }
+}
+
+TEST(PoseEskfAdaptive, StillHeadKeepsTheLiteratureProcessNoise) {
+  // NIS samples above 3 come and go on a still head; they are white, so the
+  // scale never leaves 1 and the filter is the fixed-q one to the last bit.
+  std::mt19937_64 rng(41);
+  PoseEskf adaptive, fixed(fixed_q());
+  const Pose still{rotation_from_ypr(0.2, 0.1, 0.0), Vec3(0, 0, 1000)};
+  const Mat6 cov = diag6(kRotSigma, kTransSigma);
+  for (int i = 0; i < 3000; ++i) {
+    const Pose z = noisy(still, rng, kRotSigma, kTransSigma);
+    const Pose a = adaptive.update(z, cov, 0.01 * i), f = fixed.update(z, cov, 0.01 * i);
+    ASSERT_EQ(adaptive.rotation_noise_scale(), 1.0) << "frame " << i;
+    ASSERT_EQ(adaptive.translation_noise_scale(), 1.0) << "frame " << i;
+    ASSERT_EQ((a.t - f.t).norm(), 0.0) << "frame " << i;
+  }
+}
+
+TEST(PoseEskfAdaptive, MeasurementNoisierThanItsCovarianceLeavesTheProcessNoise) {
+  // Readings 1.5x noisier than their covariance says: every block's NIS is
+  // ~2.25x its mean, but the innovations stay white, which a lagging motion
+  // model's are not. More q would only let more noise through: the scale
+  // stays at 1.
+  std::mt19937_64 rng(51);
+  OuHead head(52);
+  PoseEskf adaptive;
+  const Mat6 cov = diag6(kRotSigma, kTransSigma);
+  double nis = 0.0, max_scale = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    const Pose z = noisy(head.step(50.0, 0.01), rng, 1.5 * kRotSigma, 1.5 * kTransSigma);
+    adaptive.update(z, cov, 0.01 * i);
+    if (i < 500) continue;
+    nis += adaptive.last_translation_nis() + adaptive.last_rotation_nis();
+    max_scale = std::max({max_scale, adaptive.rotation_noise_scale(), adaptive.translation_noise_scale()});
+  }
+  EXPECT_GT(nis / 3500.0, 10.0);  // the covariance is wrong: 2 x 3 x 2.25 = 13.5 expected
+  EXPECT_LT(max_scale, 1.2);
+}
+
+TEST(PoseEskfAdaptive, StepsRecordTheProcessNoiseTheirPredictionUsed) {
+  // Once the scale has risen, P_pred of each step is F P_upd F^T + Q at the
+  // q the step records (what the smoother inverts), and the prediction's
+  // covariance for the dot tracker's gates uses the current scales.
+  OuHead head(61);
+  std::mt19937_64 rng(62);
+  PoseEskf f;
+  const Mat6 cov = diag6(kRotSigma, kTransSigma);
+  EskfStep prev;
+  double t = 0.0;
+  for (int i = 0; i < 3000; ++i, t += 0.01) {
+    prev = f.last_step();
+    f.update(noisy(head.step(150.0, 0.01), rng, kRotSigma, kTransSigma), cov, t);
+  }
+  const EskfStep& st = f.last_step();
+  ASSERT_FALSE(st.restart);
+  ASSERT_GT(st.q_trans, 2.0 * EskfParams{}.linear_accel_psd);
+  const Mat12 F = eskf_transition(st.rotation, st.dt);
+  Mat12 want = F * prev.P_upd * F.transpose();
+  const double dt = st.dt, a = dt * dt * dt / 3.0, b = dt * dt / 2.0;
+  for (int k = 0; k < 3; ++k) {
+    want(k, k) += st.q_rot * a;
+    want(k, 6 + k) += st.q_rot * b;
+    want(6 + k, k) += st.q_rot * b;
+    want(6 + k, 6 + k) += st.q_rot * dt;
+    want(3 + k, 3 + k) += st.q_trans * a;
+    want(3 + k, 9 + k) += st.q_trans * b;
+    want(9 + k, 3 + k) += st.q_trans * b;
+    want(9 + k, 9 + k) += st.q_trans * dt;
+  }
+  EXPECT_LT((st.P_pred - want).norm(), 1e-9 * want.norm());
+
+  const double ahead = 0.02, t_last = t - 0.01;
+  const EskfParams p;
+  Mat12 G = Mat12::Identity();
+  G.block<6, 6>(0, 6) = ahead * Mat6::Identity();
+  Mat6 pred = (G * f.covariance() * G.transpose()).topLeftCorner<6, 6>();
+  pred.diagonal().head<3>().array() += f.rotation_noise_scale() * p.angular_accel_psd * ahead * ahead * ahead / 3.0;
+  pred.diagonal().tail<3>().array() += f.translation_noise_scale() * p.linear_accel_psd * ahead * ahead * ahead / 3.0;
+  const auto got = f.predicted_pose_covariance(t_last + ahead);
+  ASSERT_TRUE(got.has_value());
+  EXPECT_LT((*got - pred).norm(), 1e-12 * pred.norm());
 }

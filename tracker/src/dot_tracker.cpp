@@ -58,9 +58,6 @@ double ou_displacement_var(double q, double tau, double dt) {
   return 0.5 * q * tau * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
 }
 
-/// The largest process-noise scale the eskf's manoeuvre test tries (eskf.hpp).
-constexpr double kMaxManoeuvreScale = 1000.0;
-
 /// Squared Mahalanobis distance of pose p from the eskf's last state carried
 /// to time t with an OU velocity, its acceleration noise at the largest
 /// scale the filter's manoeuvre test tries: the pose's distance from every

@@ -11,10 +11,7 @@
 namespace earshot::tracker {
 namespace {
 
-// Largest process-noise scale a manoeuvre may ask for: q x 1000 ~ 1000
-// rad^2/s^3 covers a quick turn's ~150 rad/s^2 (0.87 rad/s of velocity change
-// in a 10 ms frame) but not a pose that jumps tens of degrees in one frame.
-constexpr double kMaxScale = 1e3;
+constexpr double kMaxScale = kMaxManoeuvreScale;
 
 // Pixel coordinates behind a pose: four dots, two each.
 constexpr double kCoordinates = 8.0;
@@ -104,19 +101,20 @@ void add_process_noise(Mat12& P, double qa, double ql, double dt) {
   }
 }
 
-/// L^-1 x for A = L L^T, a block of S: x whitened, |L^-1 x|^2 its NIS.
-/// Zero when A is not positive definite (no evidence either way).
-Vec3 whiten(const Mat3& A, const Vec3& x) {
+/// One 3 x 3 block of S judged alone: its innovation x whitened (L^-1 x for
+/// A = L L^T; zero when A is not positive definite: no evidence either way)
+/// and x^T A^-1 x, its NIS (|L^-1 x|^2, or the semi-definite LDLT solve).
+struct BlockEvidence {
+  Vec3 whitened = Vec3::Zero();
+  double nis = 0.0;
+};
+BlockEvidence block_evidence(const Mat3& A, const Vec3& x) {
   Cholesky<3> f;
-  if (cholesky<3>(A, f)) return forward_solve<3>(f, x);
-  return Vec3::Zero();
-}
-
-/// x^T A^-1 x for a 3 x 3 block of S (semi-definite: its LDLT solve).
-double block_nis(const Mat3& A, const Vec3& x) {
-  Cholesky<3> f;
-  if (cholesky<3>(A, f)) return mahalanobis2<3>(f, x);
-  return x.dot(A.ldlt().solve(x));
+  if (cholesky<3>(A, f)) {
+    const Vec3 u = forward_solve<3>(f, x);
+    return {u, u.squaredNorm()};
+  }
+  return {Vec3::Zero(), x.dot(A.ldlt().solve(x))};
 }
 
 /// The pose an error (dtheta, dp) away from x.
@@ -229,10 +227,12 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
     factored = cholesky<6>(S, L);
     nis = factored ? mahalanobis2<6>(L, nu) : nu.dot(S.ldlt().solve(nu));
     if (scale == 1.0) {  // the blocks' evidence for the adaptive scales, at the q the model claims
-      nis_rot_ = block_nis(S.topLeftCorner<3, 3>(), nu.head<3>());
-      nis_trans_ = block_nis(S.bottomRightCorner<3, 3>(), nu.tail<3>());
-      u_rot_ = whiten(S.topLeftCorner<3, 3>(), nu.head<3>());
-      u_trans_ = whiten(S.bottomRightCorner<3, 3>(), nu.tail<3>());
+      const BlockEvidence rot = block_evidence(S.topLeftCorner<3, 3>(), nu.head<3>());
+      const BlockEvidence trans = block_evidence(S.bottomRightCorner<3, 3>(), nu.tail<3>());
+      nis_rot_ = rot.nis;
+      nis_trans_ = trans.nis;
+      u_rot_ = rot.whitened;
+      u_trans_ = trans.whitened;
       persistent = p_.persistence_test && rotation_persists();
     }
     if (nis <= p_.manoeuvre_chi2 && !(scale == 1.0 && persistent)) break;

@@ -10,6 +10,7 @@
 #include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/lm_refine.hpp"
 #include "earshot/tracker/simulator.hpp"
+#include "eskf_reference.hpp"
 
 using namespace earshot::tracker;
 using earshot::PoseState;
@@ -488,12 +489,7 @@ TEST(PoseEskfAdaptive, StepsRecordTheProcessNoiseTheirPredictionUsed) {
   EXPECT_LT((st.P_pred - want).norm(), 1e-9 * want.norm());
 
   const double ahead = 0.02, t_last = t - 0.01;
-  const EskfParams p;
-  Mat12 G = Mat12::Identity();
-  G.block<6, 6>(0, 6) = ahead * Mat6::Identity();
-  Mat6 pred = (G * f.covariance() * G.transpose()).topLeftCorner<6, 6>();
-  pred.diagonal().head<3>().array() += f.rotation_noise_scale() * p.angular_accel_psd * ahead * ahead * ahead / 3.0;
-  pred.diagonal().tail<3>().array() += f.translation_noise_scale() * p.linear_accel_psd * ahead * ahead * ahead / 3.0;
+  const Mat6 pred = fixtures::predicted_pose_covariance_reference(f, ahead);
   const auto got = f.predicted_pose_covariance(t_last + ahead);
   ASSERT_TRUE(got.has_value());
   EXPECT_LT((*got - pred).norm(), 1e-12 * pred.norm());

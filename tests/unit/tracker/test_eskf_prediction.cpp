@@ -6,6 +6,7 @@
 #include <random>
 
 #include "earshot/tracker/eskf.hpp"
+#include "eskf_reference.hpp"
 
 using namespace earshot::tracker;
 
@@ -19,13 +20,8 @@ TEST(EskfPrediction, PoseCovarianceIsThePoseBlockOfFPFtPlusQ) {
     f.update(z, Mat6(Eigen::Matrix<double, 6, 1>(1e-5, 1e-5, 1e-5, 1.0, 1.0, 4.0).asDiagonal()), t);
   }
   const double dt = 0.013, t_last = t - 0.01;
-  Mat12 F = Mat12::Identity();
-  F.block<6, 6>(0, 6) = dt * Mat6::Identity();
-  const EskfParams p;
-  Mat6 want = (F * f.covariance() * F.transpose()).topLeftCorner<6, 6>();
   // q at the filter's current adaptive scales (1 on this slow walk).
-  want.diagonal().head<3>().array() += f.rotation_noise_scale() * p.angular_accel_psd * dt * dt * dt / 3.0;
-  want.diagonal().tail<3>().array() += f.translation_noise_scale() * p.linear_accel_psd * dt * dt * dt / 3.0;
+  const Mat6 want = fixtures::predicted_pose_covariance_reference(f, dt);
   const auto got = f.predicted_pose_covariance(t_last + dt);
   ASSERT_TRUE(got.has_value());
   EXPECT_LT((*got - want).norm(), 1e-12 * want.norm());

@@ -151,6 +151,13 @@ using Mat6 = Eigen::Matrix<double, 6, 6>;
 using Mat12 = Eigen::Matrix<double, 12, 12>;
 using Vec12 = Eigen::Matrix<double, 12, 1>;
 
+/// The largest process-noise scale the manoeuvre test tries, times the
+/// literature q: q x 1000 ~ 1000 rad^2/s^3 covers a quick turn's ~150 rad/s^2
+/// (0.87 rad/s of velocity change in a 10 ms frame) but not a pose that jumps
+/// tens of degrees in one frame. The dot tracker's reachability test assumes
+/// it too.
+inline constexpr double kMaxManoeuvreScale = 1000.0;
+
 struct EskfParams {
   double angular_accel_psd = 1.0;     ///< q, rad^2/s^3 per axis (see above)
   double linear_accel_psd = 5000.0;   ///< q, mm^2/s^3 per axis

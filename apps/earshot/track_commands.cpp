@@ -16,6 +16,7 @@
 #include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/led_model.hpp"
 #include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/segment_vetting.hpp"
 #include "earshot/tracker/simulator.hpp"
 #include "track_calibrate.hpp"
 #include "track_video.hpp"
@@ -184,17 +185,33 @@ void run_solve(const SolveOptions& o) {
     };
     std::vector<Kept> kept;
     RtsSmoother smoother;
+    SegmentCollector segments;
     std::vector<size_t> step_frame;
     while (auto f = reader.next()) {
       const TrackResult r = tracker.process(*f);
       kept.push_back({r.t, r.rms_px, r.state, leds_seen(*f), r.pose, f->truth ? std::optional<Pose>(f->truth->pose) : std::nullopt});
       if (r.state == PoseState::tracking) {
         smoother.add(tracker.eskf().last_step());
+        segments.add(tracker.eskf().last_step());
         step_frame.push_back(kept.size() - 1);
       }
     }
+    // A segment no head motion connects to its neighbours (a wrong branch
+    // the live tracker gave out until the evidence came) is not vouched
+    // for: those frames are lost, holding the last kept pose.
     const std::vector<Pose> smooth = smoother.smooth();
-    for (size_t k = 0; k < smooth.size(); ++k) kept[step_frame[k]].pose = smooth[k];
+    const std::vector<bool> vouched = vet_segments(segments.segments(), smooth.size(), cfg.eskf);
+    std::optional<Pose> held;
+    for (size_t k = 0; k < smooth.size(); ++k) {
+      Kept& frame = kept[step_frame[k]];
+      if (vouched[k]) {
+        frame.pose = smooth[k];
+        held = smooth[k];
+      } else {
+        frame.state = PoseState::lost;
+        if (held) frame.pose = *held;
+      }
+    }
     for (const Kept& k : kept) {
       if (writer) writer->write({k.t, k.state, k.pose});
       sum.add(k.leds, k.truth, k.state, k.rms_px, k.pose);

@@ -4,7 +4,7 @@
 //
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
-//                  [--excess] [--misses [--flip-log] [--variety]]
+//                  [--excess] [--no-vet] [--misses [--flip-log] [--variety]]
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -31,6 +31,7 @@
 #include "earshot/tracker/dot_tracker.hpp"
 #include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/lm_refine.hpp"
+#include "earshot/tracker/segment_vetting.hpp"
 #include "earshot/tracker/simulator.hpp"
 
 using namespace earshot::tracker;
@@ -75,6 +76,7 @@ struct Options {
   bool flip_log = false;        ///< with --misses: one line per flip event, with its context
   bool variety = false;         ///< with --misses: the rows of a third beacon and 30 % dropouts instead
   bool excess = false;          ///< raw LM's squared error beyond the ML limit's, by what went wrong
+  bool vet = true;              ///< the RTS row drops segments no head motion connects (--no-vet: keeps them)
 };
 
 LabelledDots true_labels(const DotFrame& f) {
@@ -145,6 +147,7 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
     DotTracker raw(cam, b.model, raw_cfg), euro(cam, b.model, euro_cfg), eskf(cam, b.model, eskf_cfg);
     std::vector<EskfStep> steps;
     std::vector<size_t> step_frame;
+    const long frames3_before = acc[kEskf].frames3, tracked3_before = acc[kEskf].tracked3;
     for (size_t i = 0; i < walk.size(); ++i) {
       const DotFrame& f = walk[i];
       const bool four = leds_seen(f) == 4, three = leds_seen(f) >= 3;
@@ -194,13 +197,25 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
       }
     }
     pixel_var_sum += eskf.pixel_variance();
+    // Offline: RTS over the filter's steps, then the segments no head motion
+    // connects to their neighbours dropped (segment_vetting.hpp): their
+    // frames become predictions, neither tracked nor counted in the error.
     const std::vector<Pose> smooth = rts_smooth(steps);
+    SegmentCollector segs;
+    for (const auto& st : steps) segs.add(st);
+    const std::vector<bool> kept = o.vet ? vet_segments(segs.segments(), steps.size(), o.eskf)
+                                         : std::vector<bool>(steps.size(), true);
+    long dropped3 = 0;
     for (size_t k = 0; k < smooth.size(); ++k) {
       const DotFrame& f = walk[step_frame[k]];
+      if (!kept[k]) {
+        if (leds_seen(f) >= 3) ++dropped3;
+        continue;
+      }
       if (leds_seen(f) == 4) acc[kRts].err.add(smooth[k], f.truth->pose);
     }
-    acc[kRts].frames3 = acc[kEskf].frames3;
-    acc[kRts].tracked3 = acc[kEskf].tracked3;
+    acc[kRts].frames3 += acc[kEskf].frames3 - frames3_before;
+    acc[kRts].tracked3 += acc[kEskf].tracked3 - tracked3_before - dropped3;
   }
   const SpeedStats s = speed.stats();
   std::printf("\n#### %s, %s beacon (f = %.0f px), %s: angular speed p50 %.0f, p99 %.0f, max %.0f deg/s\n\n",
@@ -476,10 +491,12 @@ int main(int argc, char** argv) {
       o.excess = true;
     } else if (a == "--variety") {
       o.variety = true;
+    } else if (a == "--no-vet") {
+      o.vet = false;
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--no-vet] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

@@ -119,6 +119,7 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
   std::array<Acc, kRows> acc;
   SpeedCollector speed;
   long eskf_updates = 0, manoeuvres = 0, rejected = 0;
+  long rts_flips = 0, rts_flips_unvetted = 0;  // smoothed frames > kFlipDeg off (3+ LEDs), after and before vetting
   double pixel_var_sum = 0.0;
   ExcessTally ex;
   for (const auto seed : o.seeds) {
@@ -208,10 +209,13 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
     long dropped3 = 0;
     for (size_t k = 0; k < smooth.size(); ++k) {
       const DotFrame& f = walk[step_frame[k]];
+      const bool flipped = leds_seen(f) >= 3 && rotation_angle_between(smooth[k].R, f.truth->pose.R) > kFlipDeg * M_PI / 180.0;
+      rts_flips_unvetted += flipped ? 1 : 0;
       if (!kept[k]) {
         if (leds_seen(f) >= 3) ++dropped3;
         continue;
       }
+      rts_flips += flipped ? 1 : 0;
       if (leds_seen(f) == 4) acc[kRts].err.add(smooth[k], f.truth->pose);
     }
     acc[kRts].frames3 += acc[kEskf].frames3 - frames3_before;
@@ -238,6 +242,8 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
   std::printf("\neskf: pixel variance %.3f px^2 (mean of the seeds' final estimates), larger process noise on %.2f %% of frames, "
               "%.2f %% skipped as outliers\n",
               pixel_var_sum / static_cast<double>(o.seeds.size()), pct(manoeuvres), pct(rejected));
+  std::printf("eskf + RTS: %ld flipped frames (> %.0f deg, 3+ LEDs) after the segment vetting, %ld before\n", rts_flips,
+              kFlipDeg, rts_flips_unvetted);
   if (o.excess) {
     const double n4 = static_cast<double>(acc[kRaw].err.rotation_deg().count);
     std::printf("\nraw LM's squared rotation error against the ML limit's, by kind (sums / 4-dot frames raw tracks):\n\n| kind | frames | raw mean sq (deg^2) | ML mean sq | excess share of raw MS |\n|---|---|---|---|---|\n");

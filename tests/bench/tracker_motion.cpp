@@ -4,7 +4,7 @@
 //
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
-//                  [--excess] [--no-vet] [--misses [--flip-log] [--variety]]
+//                  [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -20,6 +20,10 @@
 // --excess splits raw LM's squared rotation error beyond the ML limit's by
 // what went wrong on each frame (wrong labels, a dot left out, another
 // minimum of the reprojection error) and lists the frames far off it.
+// --eskf-split splits the eskf's squared rotation error and the ML limit's
+// by the frame's true angular speed and acceleration, by the phase of the
+// motion (turning faster than 40 deg/s, or how long since) and by what the
+// filter did (quantisation model, process noise, rotation NIS).
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -77,6 +81,49 @@ struct Options {
   bool variety = false;         ///< with --misses: the rows of a third beacon and 30 % dropouts instead
   bool excess = false;          ///< raw LM's squared error beyond the ML limit's, by what went wrong
   bool vet = true;              ///< the RTS row drops segments no head motion connects (--no-vet: keeps them)
+  bool eskf_split = false;      ///< the eskf's squared rotation error against the ML limit's, by frame class
+};
+
+/// --eskf-split: the eskf's squared rotation error on 4-dot frames against
+/// the ML limit's, by one property of the frame at a time (true angular
+/// speed, what the filter did). Each class shows its share of the frames, the
+/// eskf / ML ratio of its RMS, and its share of the excess beyond 0.8 x ML
+/// (sum of e_eskf^2 - 0.64 e_ML^2: what must vanish for the row to reach
+/// 0.80), and the mean error correlation the eskf assumed there.
+struct SplitTally {
+  struct Cell {
+    long n = 0;
+    double eskf2 = 0.0, ml2 = 0.0, rho = 0.0;
+  };
+  std::vector<std::string> names;
+  std::vector<Cell> cells;
+  explicit SplitTally(std::vector<std::string> n) : names(std::move(n)), cells(names.size()) {}
+  void add(size_t k, double e_eskf, double e_ml, double rho = 0.0) {
+    ++cells[k].n;
+    cells[k].rho += rho;
+    cells[k].eskf2 += e_eskf * e_eskf;
+    cells[k].ml2 += e_ml * e_ml;
+  }
+  void print(const char* title) const {
+    long n = 0;
+    double ex = 0.0;
+    for (const auto& c : cells) {
+      n += c.n;
+      ex += c.eskf2 - 0.64 * c.ml2;
+    }
+    std::printf("\n| %s | frames | eskf RMS | ML RMS | eskf / ML | share of excess over 0.8 ML | assumed rho |\n|---|---|---|---|---|---|---|\n", title);
+    for (size_t k = 0; k < cells.size(); ++k) {
+      const auto& c = cells[k];
+      if (c.n == 0) continue;
+      const double cn = static_cast<double>(c.n);
+      // A row already below 0.8 x ML has no excess to share out: "-".
+      char share[32] = "-";
+      if (ex > 0.0) std::snprintf(share, sizeof share, "%.2f", (c.eskf2 - 0.64 * c.ml2) / ex);
+      std::printf("| %s | %.1f %% | %.3f | %.3f | %.2f | %s | %.2f |\n", names[k].c_str(), 100.0 * cn / static_cast<double>(std::max(1L, n)),
+                  std::sqrt(c.eskf2 / cn), std::sqrt(c.ml2 / cn), std::sqrt(c.eskf2 / std::max(1e-30, c.ml2)), share,
+                  c.rho / cn);
+    }
+  }
 };
 
 LabelledDots true_labels(const DotFrame& f) {
@@ -85,6 +132,9 @@ LabelledDots true_labels(const DotFrame& f) {
     if (f.truth->slot_led[s] > 0) d.add(f.truth->slot_led[s] - 1, *f.slots[s]);
   return d;
 }
+
+/// --eskf-split's "turning": the head's true angular speed above this.
+constexpr double kFastDegS = 40.0;
 
 enum Row { kRaw, kEuro, kEskf, kRts, kMl, kRows };
 
@@ -122,7 +172,14 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
   long rts_flips = 0, rts_flips_unvetted = 0;  // smoothed frames > kFlipDeg off (3+ LEDs), after and before vetting
   double pixel_var_sum = 0.0;
   ExcessTally ex;
+  SplitTally by_speed({"< 5 deg/s", "5-15", "15-30", "30-60", "60-120", ">= 120"});
+  SplitTally by_mode({"white (rho = 0)", "differenced", "inflated z (rho > 0)"});
+  SplitTally by_q({"q at the literature's", "adaptive lambda > 1.05", "manoeuvre scale"});
+  SplitTally by_nis({"rotation NIS < 3", "3-10", "10-30", ">= 30"});
+  SplitTally by_accel({"|truth accel| < 1 rad/s^2", "1-5", "5-20", ">= 20"});
+  SplitTally by_phase({"turning (> 40 deg/s)", "0-0.2 s after", "0.2-1 s after", "> 1 s after"});
   for (const auto seed : o.seeds) {
+    double last_fast_t = -1e9;
     SimulatorConfig cfg;
     cfg.seed = seed;
     cfg.motion = motion;
@@ -194,7 +251,28 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
       }
       if (four) {
         const LabelledDots d = true_labels(f);
-        acc[kMl].err.add(refine_pose_lm(f.truth->pose, d.view(), cam, b.model).pose, f.truth->pose);
+        const Pose ml = refine_pose_lm(f.truth->pose, d.view(), cam, b.model).pose;
+        acc[kMl].err.add(ml, f.truth->pose);
+        if (o.eskf_split && re.state == PoseState::tracking && i >= 2) {
+          const double ee = rotation_angle_between(re.pose.R, f.truth->pose.R) * 180.0 / M_PI;
+          const double em = rotation_angle_between(ml.R, f.truth->pose.R) * 180.0 / M_PI;
+          const double dt = f.t - walk[i - 1].t;
+          const Vec3 w1 = log_so3(f.truth->pose.R * walk[i - 1].truth->pose.R.transpose()) / dt;
+          const Vec3 w0 = log_so3(walk[i - 1].truth->pose.R * walk[i - 2].truth->pose.R.transpose()) / dt;
+          const double deg_s = w1.norm() * 180.0 / M_PI, acc_r = (w1 - w0).norm() / dt;
+          const auto& k = eskf.eskf();
+          by_speed.add(deg_s < 5 ? 0 : deg_s < 15 ? 1 : deg_s < 30 ? 2 : deg_s < 60 ? 3 : deg_s < 120 ? 4 : 5, ee, em, k.last_error_correlation());
+          by_mode.add(k.last_error_correlation() <= 0.0 ? 0 : k.last_differenced() ? 1 : 2, ee, em, k.last_error_correlation());
+          by_q.add(k.last_q_scale() > 1.0 ? 2 : k.last_step().q_rot > 1.05 * o.eskf.angular_accel_psd ? 1 : 0, ee, em, k.last_error_correlation());
+          const double nr = k.last_rotation_nis();
+          by_nis.add(nr < 3 ? 0 : nr < 10 ? 1 : nr < 30 ? 2 : 3, ee, em, k.last_error_correlation());
+          by_accel.add(acc_r < 1 ? 0 : acc_r < 5 ? 1 : acc_r < 20 ? 2 : 3, ee, em, k.last_error_correlation());
+          // Turns and their aftermath: the time since the head last turned
+          // faster than kFastDegS (the quick turns and nods of the profiles).
+          if (deg_s > kFastDegS) last_fast_t = f.t;
+          const double since = f.t - last_fast_t;
+          by_phase.add(since <= 0.0 ? 0 : since <= 0.2 ? 1 : since <= 1.0 ? 2 : 3, ee, em, k.last_error_correlation());
+        }
       }
     }
     pixel_var_sum += eskf.pixel_variance();
@@ -250,6 +328,14 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
     for (int k = 0; k < kExKinds; ++k)
       std::printf("| %s | %ld | %.3f | %.3f | %.3f |\n", kExNames[k], ex.n[static_cast<size_t>(k)], ex.raw2[static_cast<size_t>(k)] / std::max(1.0, n4),
                   ex.ml2[static_cast<size_t>(k)] / std::max(1.0, n4), (ex.raw2[static_cast<size_t>(k)] - ex.ml2[static_cast<size_t>(k)]) / std::max(1.0, n4));
+  }
+  if (o.eskf_split) {
+    by_speed.print("true angular speed");
+    by_phase.print("phase");
+    by_accel.print("true angular acceleration");
+    by_mode.print("quantisation model");
+    by_q.print("process noise");
+    by_nis.print("rotation NIS");
   }
   std::fflush(stdout);
 }
@@ -495,6 +581,8 @@ int main(int argc, char** argv) {
       o.flip_log = true;
     } else if (a == "--excess") {
       o.excess = true;
+    } else if (a == "--eskf-split") {
+      o.eskf_split = true;
     } else if (a == "--variety") {
       o.variety = true;
     } else if (a == "--no-vet") {
@@ -502,7 +590,7 @@ int main(int argc, char** argv) {
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--no-vet] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

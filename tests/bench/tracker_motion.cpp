@@ -2,7 +2,7 @@
 // both beacons and both pixel modes, against ground truth and the per-frame
 // maximum-likelihood limit. Prints markdown tables for docs/BENCHMARKS.md.
 //
-//   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast]
+//   tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
 //                  [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]
 //
@@ -559,8 +559,20 @@ int main(int argc, char** argv) {
       if (s == "tuning") o.seeds = {1, 2, 3};
       else if (s == "heldout") o.seeds = {1001, 1002, 1003};
       else {
-        std::fprintf(stderr, "tracker_motion: --seeds tuning|heldout\n");
-        return 2;
+        // A list of seeds of one's own (never the held-out ones for tuning).
+        o.seeds.clear();
+        for (size_t at = 0; at < s.size();) {
+          const size_t comma = std::min(s.find(',', at), s.size());
+          char* end = nullptr;
+          const std::string item = s.substr(at, comma - at);
+          const unsigned long long v = std::strtoull(item.c_str(), &end, 10);
+          if (item.empty() || *end != '\0') {
+            std::fprintf(stderr, "tracker_motion: --seeds tuning|heldout|N,N,...\n");
+            return 2;
+          }
+          o.seeds.push_back(v);
+          at = comma + 1;
+        }
       }
     } else if (a == "--profile") {
       o.only = next();
@@ -590,7 +602,7 @@ int main(int argc, char** argv) {
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]\n");
       return 2;
     }
   }

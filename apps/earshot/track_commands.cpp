@@ -254,7 +254,8 @@ void add_track_commands(CLI::App& track) {
   solve->add_option("--method", solve_opts->method, "Solver: lm (ours) or thesis (the 2009 reference)")->capture_default_str();
   solve->add_option("--filter", solve_opts->filter, "Filter: auto (eskf for lm, none for thesis), none, one-euro, median5, eskf (Kalman filter weighing each frame by its covariance)")->capture_default_str();
   solve->add_flag("--smooth", solve_opts->smooth,
-                  "Offline: smooth the eskf's poses over the whole file (RTS: each pose also uses the frames after it)");
+                  "Offline: smooth the eskf's poses over the whole file (RTS: each pose also uses the frames after it); "
+                  "stretches no head motion connects to the frames around them are written as lost");
   solve->add_option("--gate", solve_opts->gate_px, "Largest accepted RMS reprojection error, px")->capture_default_str()->check(CLI::PositiveNumber);
   solve_opts->cam.add_to(*solve);
   solve->callback([solve_opts] { run_solve(*solve_opts); });

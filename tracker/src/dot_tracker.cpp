@@ -50,32 +50,15 @@ double mahalanobis2(const Pose& p, const Pose& pred, const Mat6& spread) {
 /// of those correlation times carries the filter's state across the gap.
 constexpr double kTauRotS = 0.5, kTauTransS = 1.0;
 
-/// Variance per axis of the displacement over dt of an OU velocity whose
-/// acceleration spectral density is q (stationary velocity variance q tau / 2);
-/// q dt^3 / 3 for dt << tau, as the eskf's white acceleration.
-double ou_displacement_var(double q, double tau, double dt) {
-  const double x = dt / tau;
-  return 0.5 * q * tau * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
-}
-
 /// Squared Mahalanobis distance of pose p from the eskf's last state carried
 /// to time t with an OU velocity, its acceleration noise at the largest
 /// scale the filter's manoeuvre test tries: the pose's distance from every
 /// motion the filter would accept. nullopt before the filter has a state.
 std::optional<double> carried_mahalanobis2(const PoseEskf& eskf, const EskfParams& q, double t, const Pose& p) {
   if (!eskf.initialised()) return std::nullopt;
-  const EskfStep& st = eskf.last_step();
-  const double dt = std::max(0.0, t - st.t);
-  const double kr = kTauRotS * (1.0 - std::exp(-dt / kTauRotS)), kt = kTauTransS * (1.0 - std::exp(-dt / kTauTransS));
-  const Pose pred{exp_so3(st.w_upd * kr) * st.pose_upd.R, st.pose_upd.t + st.v_upd * kt};
-  Eigen::Matrix<double, 6, 12> A = Eigen::Matrix<double, 6, 12>::Zero();
-  A.leftCols<6>().setIdentity();
-  A.block<3, 3>(0, 6) = kr * Mat3::Identity();
-  A.block<3, 3>(3, 9) = kt * Mat3::Identity();
-  Mat6 spread = A * st.P_upd * A.transpose();
-  spread.diagonal().head<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.angular_accel_psd, kTauRotS, dt);
-  spread.diagonal().tail<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.linear_accel_psd, kTauTransS, dt);
-  return mahalanobis2(p, pred, spread);
+  const OuMotion m{kMaxManoeuvreScale * q.angular_accel_psd, kMaxManoeuvreScale * q.linear_accel_psd, kTauRotS, kTauTransS};
+  const CarriedPose c = carry_ou(eskf.last_step(), t, m);
+  return mahalanobis2(p, c.pose, c.spread);
 }
 
 /// Distance between two poses without a covariance: radians plus

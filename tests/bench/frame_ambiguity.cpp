@@ -68,7 +68,9 @@ FrameJudgement AmbiguityOracle::judge(const DotFrame& f) {
   std::vector<DotExplanation> all = explain_dots(f, cam_, model_, g_.evidence.pixel_variance);
   for (auto& e : all) {
     score_explanation(e, cam_, model_, g_.evidence, prior);
-    const bool flip = rotation_angle_between(e.fused.R, f.truth->pose.R) > kFlipRad;
+    // Two LEDs and strays: a tracker that believes it gives out nothing,
+    // and a pose from three of the dots may be wrong.
+    const bool flip = e.partial || rotation_angle_between(e.fused.R, f.truth->pose.R) > kFlipRad;
     (flip ? far : near) = std::max(flip ? far : near, e.log_evidence);
     best = std::max(best, e.log_evidence);
   }

@@ -87,21 +87,32 @@ std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam_, 
   // Every set of 3 or 4 dots, every injective labelling of it.
   for (int mask = 0; mask < (1 << n); ++mask) {
     const int k = std::popcount(static_cast<unsigned>(mask));
-    if (k < 3) continue;
+    if (k < 2) continue;
     std::vector<int> which;
     for (int i = 0; i < n; ++i)
       if (mask & (1 << i)) which.push_back(i);
     std::array<int, 4> leds{0, 1, 2, 3};
     do {
-      // Each ordered choice of k LEDs once: the permutations of 4 whose
-      // unused tail is in ascending order.
-      if (k == 3 && leds[3] < leds[2]) continue;
+      // Each permutation's first k entries: every ordered choice of k of the
+      // four LEDs once (4 x 3 x 2 = 4! for three).
       LabelledDots d;
       std::array<int, kSlots> slot_led{-1, -1, -1, -1};
       for (int i = 0; i < k; ++i) {
         const auto w = static_cast<size_t>(which[static_cast<size_t>(i)]);
         d.add(leds[static_cast<size_t>(i)], px[w]);
         slot_led[static_cast<size_t>(slot[w])] = leds[static_cast<size_t>(i)];
+      }
+      if (k == 2) {
+        // Two LEDs fix no pose: the explanation that the other dots are
+        // strays, scored against the prediction alone (score_explanation).
+        if (leds[3] < leds[2]) continue;  // each ordered pair once
+        DotExplanation e;
+        e.partial = true;
+        for (const auto& c : d.view()) e.dots.add(c.led, c.pixel);
+        e.slot_led = slot_led;
+        e.strays = n - 2;
+        out.push_back(e);
+        continue;
       }
       std::array<Vec3, 3> bearings, pts;
       for (size_t i = 0; i < 3; ++i) {
@@ -125,9 +136,33 @@ std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam_, 
   return out;
 }
 
+namespace {
+/// ln N(dots; their projection at the prediction, J P J^T + sigma^2 I): two
+/// LEDs' dots under a prediction of spread P, the pose integrated out.
+double log_dots_given_prediction(const LabelledDots& d, const CarriedPose& c, const Camera& cam, const LedModel& model,
+                                 double var) {
+  Eigen::Matrix<double, 4, 6> J;
+  Eigen::Vector4d nu;
+  for (int i = 0; i < 2; ++i) {
+    const auto& led = model.leds_mm[static_cast<size_t>(d.items[static_cast<size_t>(i)].led)];
+    const Vec3 P = c.pose.apply(led);
+    if (P.z() <= 1.0) return -INFINITY;
+    J.block<2, 6>(2 * i, 0) = reprojection_jacobian(c.pose, led, cam);
+    nu.segment<2>(2 * i) = d.items[static_cast<size_t>(i)].pixel - cam.project(P);
+  }
+  const Eigen::Matrix4d S = J * c.spread * J.transpose() + var * Eigen::Matrix4d::Identity();
+  const Eigen::LDLT<Eigen::Matrix4d> ldlt(S);
+  return -0.5 * (nu.dot(ldlt.solve(nu)) + ldlt.vectorD().array().abs().log().sum() + 4.0 * std::log(kTwoPi));
+}
+}  // namespace
+
 void score_explanation(DotExplanation& e, const Camera& cam_, const LedModel& model_, const EvidenceModel& g_,
                        const std::optional<MotionPrior>& prior) {
   const double var = g_.pixel_variance;
+  if (e.partial) {
+    if (!prior) return;  // nothing to score two dots against
+    e.pose = e.fused = prior->nominal.pose;
+  }
   double ssr = 0.0;
   for (const auto& c : e.dots.view()) {
     const Vec3 P = e.pose.apply(model_.leds_mm[static_cast<size_t>(c.led)]);
@@ -146,6 +181,14 @@ void score_explanation(DotExplanation& e, const Camera& cam_, const LedModel& mo
     if (seen) l += std::log(1.0 - g_.dropped_share);
     else if (in_view) l += std::log(g_.dropped_share);
   }
+  if (e.partial) {
+    // The dots' own term is the pose-integrated density, not a fit.
+    l += e.dots.count * std::log(kTwoPi * var) + 0.5 * ssr / var;
+    l += log_sum_exp(std::log(1.0 - g_.wide_weight) + log_dots_given_prediction(e.dots, prior->nominal, cam_, model_, var),
+                     std::log(g_.wide_weight) + log_dots_given_prediction(e.dots, prior->wide, cam_, model_, var));
+    e.log_evidence = l;
+    return;
+  }
   e.cov = pose_covariance(e.pose, e.dots.view(), cam_, model_, var);
   if (prior) {
     e.fused = fuse(e.pose, e.cov, prior->nominal);
@@ -161,14 +204,27 @@ void score_explanation(DotExplanation& e, const Camera& cam_, const LedModel& mo
 EvidenceChoice choose_explanation(const std::vector<DotExplanation>& all, double far_rad) {
   EvidenceChoice c;
   for (size_t i = 0; i < all.size(); ++i)
-    if (c.best < 0 || all[i].log_evidence > all[static_cast<size_t>(c.best)].log_evidence) c.best = static_cast<int>(i);
+    if (!all[i].partial && (c.best < 0 || all[i].log_evidence > all[static_cast<size_t>(c.best)].log_evidence))
+      c.best = static_cast<int>(i);
   if (c.best < 0) return c;
   const DotExplanation& b = all[static_cast<size_t>(c.best)];
+  // Two LEDs and strays give no pose to give out: always a rival.
   double rival = -INFINITY;
   for (const auto& e : all)
-    if (rotation_angle_between(e.fused.R, b.fused.R) > far_rad) rival = std::max(rival, e.log_evidence);
+    if (e.partial || rotation_angle_between(e.pose.R, b.pose.R) > far_rad) rival = std::max(rival, e.log_evidence);
   c.log_odds = b.log_evidence - rival;
   return c;
 }
+
+void CameraBehaviour::observe(int leds_in_view, int leds_seen, bool stray) {
+  led_frames_ += leds_in_view;
+  dropped_ += std::max(0, leds_in_view - leds_seen);
+  frames_ += 1.0;
+  strays_ += stray ? 1.0 : 0.0;
+}
+
+// Never certain either way: a share of 0 or 1 would make an explanation impossible.
+double CameraBehaviour::dropped_share() const { return std::clamp(dropped_ / led_frames_, 0.002, 0.5); }
+double CameraBehaviour::stray_share() const { return std::clamp(strays_ / frames_, 0.002, 0.5); }
 
 }  // namespace earshot::tracker

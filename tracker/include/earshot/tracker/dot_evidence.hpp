@@ -51,6 +51,9 @@ struct DotExplanation {
   LabelledDots dots;
   std::array<int, kSlots> slot_led{-1, -1, -1, -1};  ///< LED 0-3 per slot, -1 stray or empty
   int strays = 0;
+  /// Only two LEDs, the other dots strays: no pose of its own (the
+  /// prediction's), the dots' density with the pose integrated out.
+  bool partial = false;
   double log_evidence = -1e300;
   Mat6 cov = Mat6::Identity();  ///< the pose's covariance from its dots
   /// The pose fused with the prediction (a Kalman update): what a filter
@@ -60,7 +63,8 @@ struct DotExplanation {
 };
 
 /// Every labelling of 3 or 4 of the frame's dots and every pose it admits
-/// whose LEDs face the camera (four dots: fits beyond 60 sigma^2 left out).
+/// whose LEDs face the camera (four dots: fits beyond 60 sigma^2 left out),
+/// and every labelling of 2 of them as a partial explanation.
 [[nodiscard]] std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam, const LedModel& model,
                                                        double pixel_variance);
 
@@ -68,12 +72,29 @@ struct DotExplanation {
 void score_explanation(DotExplanation& e, const Camera& cam, const LedModel& model, const EvidenceModel& m,
                        const std::optional<MotionPrior>& prior);
 
-/// The likeliest explanation and ln of its odds against the likeliest one
-/// whose fused pose is more than `far_rad` from its own (+inf when none is).
+/// The likeliest explanation with a pose and ln of its odds against the
+/// likeliest one whose pose is more than `far_rad` from its own or that is
+/// partial (+inf when none is).
 struct EvidenceChoice {
   int best = -1;
   double log_odds = 0.0;
 };
 [[nodiscard]] EvidenceChoice choose_explanation(const std::vector<DotExplanation>& all, double far_rad);
+
+/// The camera's dropouts and strays, learnt from tracked frames: the share of
+/// LEDs the tracked pose puts in view that were not seen, and of frames with
+/// a dot no LED explains. Both start from a weak prior (2 % over 400 LED
+/// frames, 5 % over 100 frames) so a few seconds of tracking outweigh it.
+class CameraBehaviour {
+ public:
+  void observe(int leds_in_view, int leds_seen, bool stray);
+  [[nodiscard]] double dropped_share() const;
+  [[nodiscard]] double stray_share() const;
+  void reset() { *this = CameraBehaviour{}; }
+
+ private:
+  double led_frames_ = 400.0, dropped_ = 8.0;
+  double frames_ = 100.0, strays_ = 5.0;
+};
 
 }  // namespace earshot::tracker

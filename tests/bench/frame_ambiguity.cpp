@@ -62,12 +62,14 @@ FrameJudgement AmbiguityOracle::judge(const DotFrame& f) {
                         carry_ou(state_.last_step(), f.t, OuMotion{kMaxManoeuvreScale * m.q_rot, kMaxManoeuvreScale * m.q_trans, m.tau_rot_s, m.tau_trans_s})};
   }
   score_explanation(*t, cam_, model_, g_.evidence, prior);
+  t->log_evidence += slots_.log_prior(t->slot_led);
   const bool truth_near = rotation_angle_between(t->fused.R, f.truth->pose.R) <= kFlipRad;
   double near = truth_near ? t->log_evidence : -INFINITY, far = truth_near ? -INFINITY : t->log_evidence;
   double best = t->log_evidence;
   std::vector<DotExplanation> all = explain_dots(f, cam_, model_, g_.evidence.pixel_variance);
   for (auto& e : all) {
     score_explanation(e, cam_, model_, g_.evidence, prior);
+    e.log_evidence += slots_.log_prior(e.slot_led);
     // Two LEDs and strays: a tracker that believes it gives out nothing,
     // and a pose from three of the dots may be wrong.
     const bool flip = e.partial || rotation_angle_between(e.fused.R, f.truth->pose.R) > kFlipRad;
@@ -80,7 +82,10 @@ FrameJudgement AmbiguityOracle::judge(const DotFrame& f) {
               : j.log_ratio >= kDecidedLogRatio ? Verdict::decided
               : j.log_ratio >= 0.0              ? Verdict::within_100
                                                 : Verdict::rival_ahead;
-  if (j.verdict == Verdict::decided || feed_ == StateFeed::every_frame) state_.update(t->pose, t->cov, f.t);
+  if (j.verdict == Verdict::decided || feed_ == StateFeed::every_frame) {
+    state_.update(t->pose, t->cov, f.t);
+    slots_.label(t->slot_led);
+  }
   return j;
 }
 

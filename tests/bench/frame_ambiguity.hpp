@@ -19,6 +19,8 @@
 //     reflects its velocity at the box's bounds, which no OU model expects,
 //     so the prior is a mixture: 90 % at the walk's acceleration noise, 10 %
 //     at the eskf's largest manoeuvre scale.
+// The Wii camera keeps a visible dot in its slot (SlotMemory): labels known
+// at the last fed frame carry over to slots seen without a break since.
 // For four dots the evidence integrates the pose (linear-Gaussian Laplace):
 // N(dots | pose*) (2 pi)^3 |C|^1/2 N(pose*; prediction, P + C), with C the
 // pose's covariance from the dots; for three dots the same, C then being the
@@ -79,6 +81,8 @@ class AmbiguityOracle {
   /// Judges a frame with ground truth and 3 or more LEDs seen; feeds the
   /// oracle's state when the frame is decided.
   FrameJudgement judge(const DotFrame& f);
+  /// Every frame, judged or not, before judge(): which slots stayed lit.
+  void see(const DotFrame& f) { slots_.see(f); }
 
  private:
   [[nodiscard]] std::optional<DotExplanation> truth(const DotFrame& f) const;
@@ -88,6 +92,7 @@ class AmbiguityOracle {
   GenerativeModel g_;
   StateFeed feed_;
   PoseEskf state_;
+  SlotMemory slots_;
 };
 
 }  // namespace earshot::tracker::bench

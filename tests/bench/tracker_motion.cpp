@@ -5,7 +5,11 @@
 //   tracker_motion [--frames N] [--seeds tuning|heldout] [--profile NAME]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
 //                  [--excess] [--misses [--flip-log] [--variety]]
-//                  [--ambiguity]
+//                  [--ambiguity [--flip-log]]
+//
+// --ambiguity: the fast walks' 3+ LED frames by what the dots can decide at
+// that frame (frame_ambiguity.hpp), against what the eskf tracker did; with
+// --flip-log, one line per decided frame it missed or flipped.
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -481,6 +485,8 @@ void ambiguity(const Options& o) {
         for (long i = 0; i < o.frames; ++i) {
           const DotFrame f = sim.next();
           const TrackResult r = tr.process(f);
+          oracle.see(f);
+          best.see(f);
           const PoseState prev_state = last_state;
           last_state = r.state;
           const double prev_tracked_t = last_tracked_t;

@@ -216,6 +216,21 @@ EvidenceChoice choose_explanation(const std::vector<DotExplanation>& all, double
   return c;
 }
 
+void SlotMemory::see(const DotFrame& f) {
+  for (size_t s = 0; s < kSlots; ++s)
+    if (!f.slots[s]) led_[s] = -1;
+}
+
+void SlotMemory::label(const std::array<int, kSlots>& slot_led) { led_ = slot_led; }
+
+double SlotMemory::log_prior(const std::array<int, kSlots>& slot_led) const {
+  constexpr double kLogSlotTaken = -4.605;  // ln 0.01
+  double l = 0.0;
+  for (size_t s = 0; s < kSlots; ++s)
+    if (led_[s] >= 0 && slot_led[s] != led_[s]) l += kLogSlotTaken;
+  return l;
+}
+
 void CameraBehaviour::observe(int leds_in_view, int leds_seen, bool stray) {
   led_frames_ += leds_in_view;
   dropped_ += std::max(0, leds_in_view - leds_seen);

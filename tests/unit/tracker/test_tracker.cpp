@@ -340,3 +340,15 @@ TEST(DotEvidence, CameraBehaviourLearnsDropoutAndStrayShares) {
   for (int i = 0; i < 100000; ++i) perfect.observe(4, 4, false);
   EXPECT_GT(perfect.dropped_share(), 0.0);
 }
+
+TEST(DotEvidence, SlotMemoryKeepsTheLabelsOfSlotsLitWithoutABreak) {
+  const Camera cam;
+  const LedModel model;
+  const Pose p{Mat3::Identity(), Vec3(0, 0, 1000)};
+  SlotMemory m;
+  m.label({2, 0, -1, 1});
+  m.see(fixtures::frame_of(p, cam, model, {2, 0, -1, -1}));  // slot 3 went dark
+  EXPECT_DOUBLE_EQ(m.log_prior({2, 0, 3, 1}), 0.0);          // slot 3 may hold any LED now
+  EXPECT_NEAR(m.log_prior({0, 2, 3, 1}), 2.0 * std::log(0.01), 1e-3);  // two lit slots relabelled
+  EXPECT_NEAR(m.log_prior({-1, 0, 3, 1}), std::log(0.01), 1e-3);       // a lit LED called a stray
+}

@@ -81,6 +81,24 @@ struct EvidenceChoice {
 };
 [[nodiscard]] EvidenceChoice choose_explanation(const std::vector<DotExplanation>& all, double far_rad);
 
+/// The Wii camera keeps a dot in its slot while it stays visible: a slot
+/// seen without a break since the last frame whose labels were known still
+/// holds the same LED. An explanation that gives it another LED (or calls it
+/// a stray) is possible only if, in one frame, the LED vanished and a new
+/// dot took the freed slot: ln 0.01 for each such slot.
+class SlotMemory {
+ public:
+  /// Every frame, before its explanations are scored: an empty slot breaks.
+  void see(const DotFrame& f);
+  /// A frame whose labels are known (tracked, or the truth in the bound).
+  void label(const std::array<int, kSlots>& slot_led);
+  [[nodiscard]] double log_prior(const std::array<int, kSlots>& slot_led) const;
+  void reset() { *this = SlotMemory{}; }
+
+ private:
+  std::array<int, kSlots> led_{-1, -1, -1, -1};  ///< -1: no LED known in the slot
+};
+
 /// The camera's dropouts and strays, learnt from tracked frames: the share of
 /// LEDs the tracked pose puts in view that were not seen, and of frames with
 /// a dot no LED explains. Both start from a weak prior (2 % over 400 LED

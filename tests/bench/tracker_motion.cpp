@@ -5,6 +5,11 @@
 //   tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast]
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
 //                  [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]
+//                  [--ambiguity [--flip-log]]
+//
+// --ambiguity: the fast walks' 3+ LED frames by what the dots can decide at
+// that frame (frame_ambiguity.hpp), against what the eskf tracker did; with
+// --flip-log, one line per decided frame it missed or flipped.
 //
 // Seeds: the eskf's process noise was chosen from the literature and checked
 // on the TUNING seeds only (1-3); the tables in the docs are the HELD-OUT
@@ -37,6 +42,7 @@
 #include "earshot/tracker/lm_refine.hpp"
 #include "earshot/tracker/segment_vetting.hpp"
 #include "earshot/tracker/simulator.hpp"
+#include "frame_ambiguity.hpp"
 
 using namespace earshot::tracker;
 using earshot::PoseState;
@@ -82,6 +88,7 @@ struct Options {
   bool excess = false;          ///< raw LM's squared error beyond the ML limit's, by what went wrong
   bool vet = true;              ///< the RTS row drops segments no head motion connects (--no-vet: keeps them)
   bool eskf_split = false;      ///< the eskf's squared rotation error against the ML limit's, by frame class
+  bool ambiguity = false;       ///< the fast walks' frames by what the dots can decide (frame_ambiguity.hpp)
 };
 
 /// --eskf-split: the eskf's squared rotation error on 4-dot frames against
@@ -539,6 +546,119 @@ void misses(const Options& o) {
       }
 }
 
+/// A frame with 3+ LEDs: what the tracker did and what the dots allow.
+struct JudgedFrame {
+  int outcome = 0;  ///< 0 tracked within kFlipDeg, 1 not tracked, 2 flipped
+  bench::Verdict verdict = bench::Verdict::decided;
+  long index = 0;
+};
+
+/// Of the frames not decided at the frame, how many frames later the next
+/// decided one comes: <= 3, 4-10, > 10 (or never).
+std::array<long, 3> decided_later(const std::vector<JudgedFrame>& run, int outcome_min) {
+  std::array<long, 3> n{};
+  long next_decided = -1;
+  for (auto it = run.rbegin(); it != run.rend(); ++it) {
+    if (it->verdict == bench::Verdict::decided) {
+      next_decided = it->index;
+      continue;
+    }
+    if (it->outcome < outcome_min) continue;
+    const long k = next_decided < 0 ? 1000000 : next_decided - it->index;
+    ++n[k <= 3 ? 0 : k <= 10 ? 1 : 2];
+  }
+  return n;
+}
+
+/// Part 3 of issue 18, the bound: the fast walks' 3+ LED frames by what the
+/// tracker did (tracked, missed, flipped) and by what the dots could decide
+/// at that frame (frame_ambiguity.hpp). "ceiling": the share a causal
+/// tracker that never flips could track at most, under the walk's own model.
+void ambiguity(const Options& o) {
+  constexpr double kAngRms = 112.0, kSpeed = 150.0, kDropStart = 0.01, kStrayStart = 0.02;
+  // Simulator::observe: a dropout lasts 1-10 frames, a stray 1-20.
+  const double dropped = kDropStart * 5.5 / (1.0 + kDropStart * 5.5), strays = kStrayStart * 10.5 / (1.0 + kStrayStart * 10.5);
+  const std::vector<Beacon> beacons = {{"thesis", LedModel::thesis(), 1280.0}, {"second", second_beacon(), 1350.0}};
+  std::printf("\n### Fast walks (p50 ~165 deg/s, any roll, 5 %% dropouts, strays): 3+ LED frames by what the dots decide; seeds");
+  for (auto sd : o.seeds) std::printf(" %llu", static_cast<unsigned long long>(sd));
+  std::printf(", %ld frames each\n\n", o.frames);
+  std::printf("| beacon | pixels | 3+ LED frames | best state: decided / within 100:1 / rival ahead / none near | ceiling, best state | "
+              "decided | rival within 100:1 | rival ahead | none near | ceiling | tracked, not flipped | "
+              "missed: decided / within / ahead / none | flipped: decided / within / ahead / none | "
+              "missed or flipped, not decided: decided <= 3 / 4-10 / > 10 frames later | tracked right, not decided |\n");
+  std::printf("|---|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---|---|---|---:|\n");
+  for (const Beacon& b : beacons)
+    for (const auto pixels : {PixelModel::integer, PixelModel::quantize8}) {
+      const Camera cam = Camera::with_focal(b.focal);
+      const double var = pixels == PixelModel::integer ? 1.0 / 12.0 : 64.0 / 12.0;
+      std::array<std::array<long, 4>, 3> table{};  // [outcome][verdict]
+      std::array<long, 4> ideal{};                 // verdicts with the best state
+      std::array<long, 3> later{};
+      for (const auto seed : o.seeds) {
+        SimulatorConfig cfg;
+        cfg.seed = seed;
+        cfg.pixels = pixels;
+        cfg.angular_speed_deg_s = kAngRms;
+        cfg.roll_max_deg = 180.0;
+        cfg.dropout_rate = kDropStart;
+        cfg.stray_rate = kStrayStart;
+        Simulator sim(cam, b.model, cfg);
+        TrackerConfig tc;
+        tc.filter = FilterKind::eskf;
+        DotTracker tr(cam, b.model, tc);
+        const bench::GenerativeModel gm = bench::walk_model(var, kAngRms, kSpeed, dropped, strays);
+        bench::AmbiguityOracle oracle(cam, b.model, gm), best(cam, b.model, gm, bench::StateFeed::every_frame);
+        std::vector<JudgedFrame> run;
+        PoseState last_state = PoseState::lost;
+        double last_tracked_t = -1e9;
+        for (long i = 0; i < o.frames; ++i) {
+          const DotFrame f = sim.next();
+          const TrackResult r = tr.process(f);
+          oracle.see(f);
+          best.see(f);
+          const PoseState prev_state = last_state;
+          last_state = r.state;
+          const double prev_tracked_t = last_tracked_t;
+          if (r.state == PoseState::tracking) last_tracked_t = f.t;
+          if (leds_seen(f) < 3) continue;
+          const double since = f.t - prev_tracked_t;
+          JudgedFrame j;
+          j.index = i;
+          j.verdict = oracle.judge(f).verdict;
+          ++ideal[static_cast<size_t>(best.judge(f).verdict)];
+          const bool flip = r.state == PoseState::tracking &&
+                            rotation_angle_between(r.pose.R, f.truth->pose.R) > kFlipDeg * M_PI / 180.0;
+          j.outcome = r.state != PoseState::tracking ? 1 : flip ? 2 : 0;
+          if (o.flip_log && j.outcome != 0 && j.verdict == bench::Verdict::decided)
+            std::printf("decided but %s: %s/%s seed %llu frame %ld: %d LEDs %d dots, %s, since tracked %.2f s, used %d, track %d frames from %d dots\n",
+                        j.outcome == 1 ? "missed" : "flipped", b.name, pixels == PixelModel::integer ? "integer" : "8-px",
+                        static_cast<unsigned long long>(seed), i, leds_seen(f), f.visible(), prev_state == PoseState::tracking ? "tracking" : prev_state == PoseState::predicted ? "predicted" : "lost",
+                        since, r.dots_used, r.track_frames, r.acquired_dots);
+          ++table[static_cast<size_t>(j.outcome)][static_cast<size_t>(j.verdict)];
+          run.push_back(j);
+        }
+        const auto l = decided_later(run, 1);
+        for (size_t k = 0; k < 3; ++k) later[k] += l[k];
+      }
+      long frames3 = 0;
+      std::array<long, 4> by_verdict{};
+      for (const auto& row : table)
+        for (size_t v = 0; v < 4; ++v) {
+          frames3 += row[v];
+          by_verdict[v] += row[v];
+        }
+      auto pct = [&](long n) { return 100.0 * static_cast<double>(n) / static_cast<double>(std::max(1L, frames3)); };
+      const auto& tr = table[0];
+      std::printf("| %s | %s | %ld | %ld / %ld / %ld / %ld | %.3f %% | %ld | %ld | %ld | %ld | %.3f %% | %.3f %% | %ld / %ld / %ld / %ld | %ld / %ld / %ld / %ld | %ld / %ld / %ld | %ld |\n",
+                  b.name, pixels == PixelModel::integer ? "integer" : "8-px", frames3, ideal[0], ideal[1], ideal[2], ideal[3],
+                  pct(ideal[0]), by_verdict[0], by_verdict[1],
+                  by_verdict[2], by_verdict[3], pct(by_verdict[0]), pct(tr[0] + tr[1] + tr[2] + tr[3]), table[1][0], table[1][1],
+                  table[1][2], table[1][3], table[2][0], table[2][1], table[2][2], table[2][3], later[0], later[1], later[2],
+                  tr[1] + tr[2] + tr[3]);
+      std::fflush(stdout);
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -595,6 +715,8 @@ int main(int argc, char** argv) {
       o.excess = true;
     } else if (a == "--eskf-split") {
       o.eskf_split = true;
+    } else if (a == "--ambiguity") {
+      o.ambiguity = true;
     } else if (a == "--variety") {
       o.variety = true;
     } else if (a == "--no-vet") {
@@ -602,7 +724,7 @@ int main(int argc, char** argv) {
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]] [--ambiguity [--flip-log]]\n");
       return 2;
     }
   }
@@ -613,6 +735,10 @@ int main(int argc, char** argv) {
   std::printf("## tracker_motion: %ld frames x seeds", o.frames);
   for (auto s : o.seeds) std::printf(" %llu", static_cast<unsigned long long>(s));
   std::printf("; eskf q = %g rad^2/s^3, %g mm^2/s^3\n", o.eskf.angular_accel_psd, o.eskf.linear_accel_psd);
+  if (o.ambiguity) {
+    ambiguity(o);
+    return 0;
+  }
   if (o.misses) {
     misses(o);
     return 0;

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "earshot/tracker/dot_evidence.hpp"
 #include "earshot/tracker/lm_refine.hpp"
 #include "earshot/tracker/lm_solver.hpp"
+#include "earshot/tracker/motion_reach.hpp"
 #include "earshot/tracker/p3p.hpp"
 #include "earshot/tracker/thesis_solver.hpp"
 #include "settle_output.hpp"
@@ -30,53 +32,27 @@ constexpr long kNoiseKnownSamples = 100;
 /// a fit is judged by never falls below (0.1 px)^2 (noise-free input would
 /// otherwise make the solver's own tolerance look like a stray).
 constexpr double kMinPixelVariance = 1e-2;
-/// 99.9 % point of chi-square with 6 degrees of freedom: a pose farther
-/// from the prediction than this, even at the largest process noise the
-/// eskf tries, is one no head motion explains.
-constexpr double kChi2SixDof999 = 22.46;
-
-/// Squared Mahalanobis distance of pose `p` from the prediction `pred`, whose
-/// spread (rotation, translation: the eskf's error state) is `spread`.
-double mahalanobis2(const Pose& p, const Pose& pred, const Mat6& spread) {
-  Eigen::Matrix<double, 6, 1> nu;
-  nu.head<3>() = log_so3(p.R * pred.R.transpose());
-  nu.tail<3>() = p.t - pred.t;
-  return nu.dot(spread.ldlt().solve(nu));
-}
-
-/// Head velocity decorrelates over ~0.5 s (rotation) and ~1 s (translation)
-/// (eskf.hpp: the same figures give its q). Over a loss longer than that a
-/// constant-velocity extrapolation overshoots; an Ornstein-Uhlenbeck velocity
-/// of those correlation times carries the filter's state across the gap.
-constexpr double kTauRotS = 0.5, kTauTransS = 1.0;
-
-/// Variance per axis of the displacement over dt of an OU velocity whose
-/// acceleration spectral density is q (stationary velocity variance q tau / 2);
-/// q dt^3 / 3 for dt << tau, as the eskf's white acceleration.
-double ou_displacement_var(double q, double tau, double dt) {
-  const double x = dt / tau;
-  return 0.5 * q * tau * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
-}
-
 /// Squared Mahalanobis distance of pose p from the eskf's last state carried
-/// to time t with an OU velocity, its acceleration noise at the largest
-/// scale the filter's manoeuvre test tries: the pose's distance from every
-/// motion the filter would accept. nullopt before the filter has a state.
+/// to time t (motion_reach.hpp): the pose's distance from every motion the
+/// filter would accept. nullopt before the filter has a state.
 std::optional<double> carried_mahalanobis2(const PoseEskf& eskf, const EskfParams& q, double t, const Pose& p) {
   if (!eskf.initialised()) return std::nullopt;
-  const EskfStep& st = eskf.last_step();
-  const double dt = std::max(0.0, t - st.t);
-  const double kr = kTauRotS * (1.0 - std::exp(-dt / kTauRotS)), kt = kTauTransS * (1.0 - std::exp(-dt / kTauTransS));
-  const Pose pred{exp_so3(st.w_upd * kr) * st.pose_upd.R, st.pose_upd.t + st.v_upd * kt};
-  Eigen::Matrix<double, 6, 12> A = Eigen::Matrix<double, 6, 12>::Zero();
-  A.leftCols<6>().setIdentity();
-  A.block<3, 3>(0, 6) = kr * Mat3::Identity();
-  A.block<3, 3>(3, 9) = kt * Mat3::Identity();
-  Mat6 spread = A * st.P_upd * A.transpose();
-  spread.diagonal().head<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.angular_accel_psd, kTauRotS, dt);
-  spread.diagonal().tail<3>().array() += kMaxManoeuvreScale * ou_displacement_var(q.linear_accel_psd, kTauTransS, dt);
-  return mahalanobis2(p, pred, spread);
+  return earshot::tracker::carried_mahalanobis2(eskf.last_step(), q, t, p);
 }
+
+/// A tracked pose this far off is a flip: rival explanations of the dots
+/// matter only beyond it.
+constexpr double kFlipRad = 20.0 * 3.14159265358979323846 / 180.0;
+/// Odds (ln 1000) a re-acquisition by evidence needs against every rival
+/// more than 20 deg off: ten times the 100 : 1 of the tests above, because the
+/// state it is judged by is the tracker's own (the literature's process
+/// noise, a velocity that may be stale), not the head's true motion; at
+/// 100 : 1 the tuning seeds' fast walks gained 0.26 points tracked for 20
+/// more flipped frames, at 1000 : 1 0.22 points for 8.
+constexpr double kEvidenceLogOdds = 6.908;
+/// Share of the prediction at the largest manoeuvre the eskf allows: heads
+/// reverse or start a turn unseen, which the filter's own noise does not expect.
+constexpr double kManoeuvreWeight = 0.1;
 
 /// Distance between two poses without a covariance: radians plus
 /// translation at 100 mm per radian (a head's LEDs sit ~100 mm from its centre).
@@ -134,6 +110,7 @@ void DotTracker::reset() {
   eskf_.reset();
   pixel_noise_.reset();
   noise_samples_ = 0;
+  camera_stats_.reset();
   output_hyp_id_ = 0;
   output_slot_led_ = {-1, -1, -1, -1};
   last_eskf_dots_ = 4;
@@ -216,7 +193,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     // each root fits its dots exactly.
     auto off = [&](const Pose& p) {
       if (!spread) return pose_distance(p, pred);
-      return mahalanobis2(p, pred, *spread);
+      return pose_mahalanobis2(p, pred, *spread);
     };
     auto lab = labeller_.follow(frame, pred);
     if (!lab) continue;
@@ -370,44 +347,11 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     }
   }
   if (hyps_.empty() && visible >= 3 && last_raw_ && frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
-    // Three LEDs, perhaps beside a stray: re-acquire near the last pose from
-    // the one set of three dots that gives a single clear answer.
-    std::optional<Labelling> found;
-    int answers = 0;
-    for (int drop = (visible == 3 ? -1 : 0); drop < (visible == 3 ? 0 : kSlots); ++drop) {
-      DotFrame three = frame;
-      if (drop >= 0) {
-        if (!three.slots[static_cast<size_t>(drop)]) continue;
-        three.slots[static_cast<size_t>(drop)].reset();
-      }
-      if (auto l = labeller_.reacquire3(three, *last_raw_)) {
-        found = l;
-        ++answers;
-      }
-    }
-    // The answer must be a pose some head motion explains: the filter's
-    // last state, carried across the gap, at the largest process noise its
-    // manoeuvre test tries. Beyond the eskf's own gap limit its state says
-    // nothing; then nearness to the last pose alone decides, as before.
-    const bool recent = cfg_.filter == FilterKind::eskf && eskf_.initialised() &&
-                        frame.t - eskf_.last_step().t <= cfg_.eskf.max_gap_s;
-    if (answers == 1 && recent)
-      if (const auto m2 = carried_mahalanobis2(eskf_, cfg_.eskf, frame.t, found->pose); m2 && *m2 > kChi2SixDof999)
-        answers = 0;
-    if (answers == 1) {
-      const auto& l = found;
-      if (const auto pose = solver.solve({l->dots.view(), &l->pose})) {
-        Hypothesis h;
-        h.pose = *pose;
-        h.cv.observe(*pose, frame.t);
-        h.frames = 1;
-        h.dots = 3;
-        h.born_dots = 3;
-        h.slot_led = l->slot_led;
-        h.id = ++next_hyp_id_;
-        hyps_.push_back(h);
-      }
-    }
+    // The nearest single answer first (what the tracker did before); when
+    // there is none, the evidence of every explanation of the dots.
+    reacquire_nearest(frame, solver);
+    if (hyps_.empty() && cfg_.filter == FilterKind::eskf && eskf_.initialised())
+      if (auto h = reacquire_by_evidence(frame, var)) hyps_.push_back(*h);
   }
 
   // Rival hypotheses compete on accumulated reprojection error; the loser
@@ -434,6 +378,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     pixel_noise_.add(noise_known ? std::min(best->ssr4, kChi2TwoDof999 * var) : best->ssr4, 4);
     ++noise_samples_;
   }
+  if (best) observe_camera(*best, frame);
   // A 3-dot frame whose P3P roots motion cannot tell apart is not given out.
   if (best && best->ambiguous) best = nullptr;
   // Nor is a pose whose rival explanation of the same dots is about as
@@ -456,7 +401,7 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
           if (best->slot_led[s] >= 0 && frame.slots[s]) dots.add(best->slot_led[s], *frame.slots[s]);
         cov = pose_covariance(best->pose, dots.view(), cam_, model_, var);
       }
-      if (!(mahalanobis2(h.pose, best->pose, *cov) <= kChi2SixDof999)) {
+      if (!(pose_mahalanobis2(h.pose, best->pose, *cov) <= kChi2SixDof999)) {
         best = nullptr;
         break;
       }
@@ -481,6 +426,88 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     output_slot_led_ = best->slot_led;
   }
   return r;
+}
+
+void DotTracker::reacquire_nearest(const DotFrame& frame, LmSolver& solver) {
+  const int visible = frame.visible();
+  // Three LEDs, perhaps beside a stray: re-acquire near the last pose from
+  // the one set of three dots that gives a single clear answer.
+  std::optional<Labelling> found;
+  int answers = 0;
+  for (int drop = (visible == 3 ? -1 : 0); drop < (visible == 3 ? 0 : kSlots); ++drop) {
+    DotFrame three = frame;
+    if (drop >= 0) {
+      if (!three.slots[static_cast<size_t>(drop)]) continue;
+      three.slots[static_cast<size_t>(drop)].reset();
+    }
+    if (auto l = labeller_.reacquire3(three, *last_raw_)) {
+      found = l;
+      ++answers;
+    }
+  }
+  // The answer must be a pose some head motion explains: the filter's
+  // last state, carried across the gap, at the largest process noise its
+  // manoeuvre test tries. Beyond the eskf's own gap limit its state says
+  // nothing; then nearness to the last pose alone decides, as before.
+  const bool recent = cfg_.filter == FilterKind::eskf && eskf_.initialised() &&
+                      frame.t - eskf_.last_step().t <= cfg_.eskf.max_gap_s;
+  if (answers == 1 && recent)
+    if (const auto m2 = carried_mahalanobis2(eskf_, cfg_.eskf, frame.t, found->pose); m2 && *m2 > kChi2SixDof999)
+      answers = 0;
+  if (answers == 1) {
+    const auto& l = found;
+    if (const auto pose = solver.solve({l->dots.view(), &l->pose})) {
+      Hypothesis h;
+      h.pose = *pose;
+      h.cv.observe(*pose, frame.t);
+      h.frames = 1;
+      h.dots = 3;
+      h.born_dots = 3;
+      h.slot_led = l->slot_led;
+      h.id = ++next_hyp_id_;
+      hyps_.push_back(h);
+    }
+  }
+}
+
+std::optional<DotTracker::Hypothesis> DotTracker::reacquire_by_evidence(const DotFrame& frame, double var) {
+  // The eskf's last state carried across the gap: at its own process noise,
+  // and at the largest manoeuvre it allows (a head that reverses or starts a
+  // turn while unseen).
+  const EskfStep& st = eskf_.last_step();
+  const OuMotion nominal{st.q_rot, st.q_trans, kHeadRotationTauS, kHeadTranslationTauS};
+  const OuMotion wide = head_motion(cfg_.eskf, kMaxManoeuvreScale);
+  const MotionPrior prior{carry_ou(st, frame.t, nominal), carry_ou(st, frame.t, wide)};
+  const EvidenceModel m{var, camera_stats_.dropped_share(), camera_stats_.stray_share(), kManoeuvreWeight};
+  std::vector<DotExplanation> all = explain_dots(frame, cam_, model_, var);
+  for (auto& e : all) score_explanation(e, cam_, model_, m, prior);
+  const EvidenceChoice c = choose_explanation(all, kFlipRad);
+  if (c.best < 0 || !(c.log_odds >= kEvidenceLogOdds)) return std::nullopt;
+  const DotExplanation& e = all[static_cast<size_t>(c.best)];
+  // The odds are relative: when every explanation is one no head motion
+  // explains, the least bad still is not an answer (the reachability test
+  // of reacquire_nearest, as there within the eskf's gap limit).
+  if (frame.t - st.t <= cfg_.eskf.max_gap_s)
+    if (const auto m2 = carried_mahalanobis2(eskf_, cfg_.eskf, frame.t, e.pose); m2 && *m2 > kChi2SixDof999) return std::nullopt;
+  Hypothesis h;
+  h.pose = e.pose;
+  h.cv.observe(e.pose, frame.t);
+  h.frames = 1;
+  h.dots = e.dots.count;
+  h.born_dots = e.dots.count;
+  h.slot_led = e.slot_led;
+  h.id = ++next_hyp_id_;
+  return h;
+}
+
+void DotTracker::observe_camera(const Hypothesis& h, const DotFrame& frame) {
+  const double cos_half = std::cos(model_.half_angle);
+  int in_view = 0;
+  for (size_t led = 0; led < 4; ++led) {
+    const Vec3 P = h.pose.apply(model_.leds_mm[led]);
+    in_view += P.z() > 1.0 && (h.pose.R * model_.axis).dot(-P.normalized()) >= cos_half && cam_.inside(cam_.project(P));
+  }
+  camera_stats_.observe(std::max(in_view, h.dots), h.dots, frame.visible() > h.dots);
 }
 
 TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {

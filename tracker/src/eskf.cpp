@@ -487,4 +487,26 @@ std::vector<Pose> rts_smooth(std::span<const EskfStep> steps) {
   return s.smooth();
 }
 
+double ou_displacement_variance(double q, double tau, double dt) {
+  const double x = dt / tau;
+  return 0.5 * q * tau * tau * tau * (2.0 * x - 3.0 + 4.0 * std::exp(-x) - std::exp(-2.0 * x));
+}
+
+CarriedPose carry_ou(const EskfStep& st, double t, const OuMotion& m) {
+  const double dt = std::max(0.0, t - st.t);
+  // The mean velocity decays as exp(-dt / tau): the displacement is v tau (1 - exp(-dt / tau)).
+  const double kr = m.tau_rot_s * (1.0 - std::exp(-dt / m.tau_rot_s));
+  const double kt = m.tau_trans_s * (1.0 - std::exp(-dt / m.tau_trans_s));
+  CarriedPose c;
+  c.pose = Pose{exp_so3(st.w_upd * kr) * st.pose_upd.R, st.pose_upd.t + st.v_upd * kt};
+  Eigen::Matrix<double, 6, 12> A = Eigen::Matrix<double, 6, 12>::Zero();
+  A.leftCols<6>().setIdentity();
+  A.block<3, 3>(0, 6) = kr * Mat3::Identity();
+  A.block<3, 3>(3, 9) = kt * Mat3::Identity();
+  c.spread = A * st.P_upd * A.transpose();
+  c.spread.diagonal().head<3>().array() += ou_displacement_variance(m.q_rot, m.tau_rot_s, dt);
+  c.spread.diagonal().tail<3>().array() += ou_displacement_variance(m.q_trans, m.tau_trans_s, dt);
+  return c;
+}
+
 }  // namespace earshot::tracker

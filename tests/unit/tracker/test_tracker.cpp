@@ -1,8 +1,11 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <functional>
 #include <random>
 
 #include "earshot/tracker/accuracy.hpp"
+#include "earshot/tracker/dot_evidence.hpp"
 #include "earshot/tracker/dot_tracker.hpp"
 #include "earshot/tracker/simulator.hpp"
 #include "random_poses.hpp"
@@ -242,4 +245,110 @@ TEST(DotTracker, WaitsWhileTwoLabellingsOfFourDotsFitTheNoise) {
     }
     EXPECT_EQ(last, PoseState::tracking);  // and it does not wait for ever
   }
+}
+
+namespace {
+/// A still head mid-image at 1 m, tracked from four dots for 0.5 s, then two
+/// dots for 30 ms (lost), then `last` (built from the same pose). The result
+/// of that frame.
+TrackResult after_loss(FilterKind filter, const std::function<DotFrame(const Pose&, double)>& last) {
+  const Camera cam;
+  const LedModel model;
+  TrackerConfig cfg;
+  cfg.filter = filter;
+  cfg.predict_timeout_s = 0.03;
+  DotTracker tracker(cam, model, cfg);
+  const Pose still{rotation_from_ypr(0.2, 0.1, 0.3), Vec3(20, -10, 1000)};
+  for (int i = 0; i < 50; ++i) tracker.process(fixtures::frame_of(still, cam, model, {0, 1, 2, 3}, 0.01 * i));
+  for (int i = 50; i < 54; ++i) tracker.process(fixtures::frame_of(still, cam, model, {0, 1, -1, -1}, 0.01 * i));
+  return tracker.process(last(still, 0.54));
+}
+}  // namespace
+
+TEST(DotTracker, ReacquiresByEvidenceWhenTheUnseenLedMerelyDroppedOut) {
+  // LED 3 is in view but not seen (a dropout): the nearest-answer rule wants
+  // the unseen LED hidden and refuses; the evidence (the eskf's state carried
+  // 50 ms, one dropout) makes the true root 1000 : 1 likelier than any other.
+  const Camera cam;
+  const LedModel model;
+  auto three = [&](const Pose& p, double t) { return fixtures::frame_of(p, cam, model, {2, -1, 0, 1}, t); };
+  const TrackResult plain = after_loss(FilterKind::none, three);
+  EXPECT_NE(plain.state, PoseState::tracking);  // the rule before: no single clear answer
+  const TrackResult r = after_loss(FilterKind::eskf, three);
+  ASSERT_EQ(r.state, PoseState::tracking);
+  EXPECT_LT(rotation_angle_between(r.pose.R, rotation_from_ypr(0.2, 0.1, 0.3)), 0.02);
+  EXPECT_EQ(r.slot_led[0], 2);
+  EXPECT_EQ(r.slot_led[2], 0);
+}
+
+TEST(DotTracker, TwoLedsAndAStrayAreNotReacquiredByEvidence) {
+  // Two LEDs where the prediction puts them and a stray 60 px off: any pose
+  // that takes the stray for an LED is a guess; "two LEDs and a stray" is
+  // the likelier explanation, and it gives out no pose.
+  const Camera cam;
+  const LedModel model;
+  auto stray = [&](const Pose& p, double t) {
+    DotFrame f = fixtures::frame_of(p, cam, model, {0, -1, 1, -1}, t);
+    f.slots[3] = cam.project(p.apply(model.leds_mm[2])) + Vec2(45.0, 40.0);
+    return f;
+  };
+  const TrackResult r = after_loss(FilterKind::eskf, stray);
+  EXPECT_NE(r.state, PoseState::tracking);
+}
+
+TEST(DotEvidence, TheTruthIsAmongTheExplanationsOfThreeDotsAndWinsNearItsPrediction) {
+  const Camera cam;
+  const LedModel model;
+  const Pose truth{rotation_from_ypr(-0.3, 0.2, 1.0), Vec3(-40, 30, 900)};
+  const DotFrame f = fixtures::frame_of(truth, cam, model, {-1, 3, 1, 0}, 0.0);
+  std::vector<DotExplanation> all = explain_dots(f, cam, model, 1.0 / 12.0);
+  // 24 labellings of three dots, up to 4 roots each, and 12 partial pairs x 3.
+  ASSERT_GT(all.size(), 24u);
+  int found = -1;
+  for (size_t i = 0; i < all.size(); ++i)
+    if (!all[i].partial && all[i].slot_led == std::array<int, kSlots>{-1, 3, 1, 0} &&
+        rotation_angle_between(all[i].pose.R, truth.R) < 1e-3)
+      found = static_cast<int>(i);
+  ASSERT_GE(found, 0);
+  // A prediction at the truth, 5 deg and 10 mm spread: the truth wins clearly.
+  EskfStep st;
+  st.pose_upd = truth;
+  st.P_upd.diagonal().head<6>() << 0.0076, 0.0076, 0.0076, 100, 100, 100;
+  const MotionPrior prior{carry_ou(st, 0.0, OuMotion{}), carry_ou(st, 0.0, OuMotion{})};
+  for (auto& e : all) score_explanation(e, cam, model, EvidenceModel{}, prior);
+  const EvidenceChoice c = choose_explanation(all, 0.35);
+  ASSERT_GE(c.best, 0);
+  EXPECT_LT(rotation_angle_between(all[static_cast<size_t>(c.best)].pose.R, truth.R), 0.02);
+  EXPECT_GT(c.log_odds, std::log(1000.0));
+  // A prediction that knows little (1 rad, 1 m) leaves the roots far less apart.
+  st.P_upd.diagonal().head<6>() << 1.0, 1.0, 1.0, 1e6, 1e6, 1e6;
+  const MotionPrior vague{carry_ou(st, 0.0, OuMotion{}), carry_ou(st, 0.0, OuMotion{})};
+  for (auto& e : all) score_explanation(e, cam, model, EvidenceModel{}, vague);
+  EXPECT_LT(choose_explanation(all, 0.35).log_odds, c.log_odds - 5.0);
+}
+
+TEST(DotEvidence, CameraBehaviourLearnsDropoutAndStrayShares) {
+  CameraBehaviour b;
+  EXPECT_NEAR(b.dropped_share(), 0.02, 1e-9);  // the weak prior
+  EXPECT_NEAR(b.stray_share(), 0.05, 1e-9);
+  // 10 % of LED frames dropped, a stray on 30 % of frames, for 100 s.
+  for (int i = 0; i < 10000; ++i) b.observe(4, i % 5 == 0 ? 2 : 4, i % 10 < 3);
+  EXPECT_NEAR(b.dropped_share(), 0.1, 0.005);
+  EXPECT_NEAR(b.stray_share(), 0.3, 0.005);
+  // Never 0: a camera that has not dropped an LED yet still may.
+  CameraBehaviour perfect;
+  for (int i = 0; i < 100000; ++i) perfect.observe(4, 4, false);
+  EXPECT_GT(perfect.dropped_share(), 0.0);
+}
+
+TEST(DotEvidence, SlotMemoryKeepsTheLabelsOfSlotsLitWithoutABreak) {
+  const Camera cam;
+  const LedModel model;
+  const Pose p{Mat3::Identity(), Vec3(0, 0, 1000)};
+  SlotMemory m;
+  m.label({2, 0, -1, 1});
+  m.see(fixtures::frame_of(p, cam, model, {2, 0, -1, -1}));  // slot 3 went dark
+  EXPECT_DOUBLE_EQ(m.log_prior({2, 0, 3, 1}), 0.0);          // slot 3 may hold any LED now
+  EXPECT_NEAR(m.log_prior({0, 2, 3, 1}), 2.0 * std::log(0.01), 1e-3);  // two lit slots relabelled
+  EXPECT_NEAR(m.log_prior({-1, 0, 3, 1}), std::log(0.01), 1e-3);       // a lit LED called a stray
 }

@@ -20,7 +20,15 @@
 // three dots must also be a pose some head motion explains: the eskf's last
 // state carried across the gap (an Ornstein-Uhlenbeck velocity, with the
 // largest process noise its manoeuvre test tries) must put it within the
-// 99.9 % bound of chi-square with 6 degrees of freedom.
+// 99.9 % bound of chi-square with 6 degrees of freedom. When no set of
+// three dots gives a single answer near the last pose (the unseen LED must
+// be hidden there, so an LED that merely dropped out refuses the truth),
+// the eskf's state decides by evidence (dot_evidence.hpp): every labelling
+// of the dots, each P3P root or LM minimum, each unseen LED dropped or out of
+// view, and two LEDs with strays, scored by the pixel noise, the camera's
+// learnt dropout and stray shares and the carried state; the likeliest is
+// taken when it is 1000 : 1 against every explanation more than 20 deg from
+// it and passes the same reachability test.
 //
 // Rival explanations of four dots (another labelling, or a pose outside the
 // best one's own uncertainty) compete on their summed squared residuals; the
@@ -34,10 +42,12 @@
 #include <optional>
 #include <vector>
 
+#include "earshot/tracker/dot_evidence.hpp"
 #include "earshot/tracker/dots_csv.hpp"
 #include "earshot/tracker/eskf.hpp"
 #include "earshot/tracker/filters.hpp"
 #include "earshot/tracker/labeller.hpp"
+#include "earshot/tracker/lm_solver.hpp"
 #include "earshot/tracker/poses_csv.hpp"
 #include "earshot/tracker/solver.hpp"
 
@@ -103,6 +113,15 @@ class DotTracker {
   TrackResult process_lm(const DotFrame& frame);
   TrackResult process_thesis(const DotFrame& frame);
   TrackResult finish(TrackResult r, const DotFrame& frame);
+  /// After a loss, with the eskf's last state: the explanation of the dots
+  /// (dot_evidence.hpp) 100 : 1 more likely than any pose more than 20 deg
+  /// from it, given that state carried across the gap; nullopt when none is.
+  [[nodiscard]] std::optional<Hypothesis> reacquire_by_evidence(const DotFrame& frame, double pixel_variance);
+  /// Without the eskf: the one set of three dots whose labelling near the
+  /// last raw pose gives a single clear answer (Labeller::reacquire3).
+  void reacquire_nearest(const DotFrame& frame, LmSolver& solver);
+  /// Learns the camera's dropout and stray shares from a tracked frame.
+  void observe_camera(const Hypothesis& h, const DotFrame& frame);
   /// Covariance of the eskf's predicted pose at time t (rotation rad,
   /// translation mm); nullopt before the filter has a state.
   [[nodiscard]] std::optional<Mat6> prediction_spread(double t) const;
@@ -121,6 +140,7 @@ class DotTracker {
   std::array<int, kSlots> output_slot_led_{-1, -1, -1, -1};
   int last_eskf_dots_ = 4;  ///< dots behind the eskf's last measurement
   PixelNoiseEstimator pixel_noise_;
+  CameraBehaviour camera_stats_;
   long noise_samples_ = 0;  ///< 4-dot fits the pixel noise estimate has seen
   ConstantVelocity cv_;
   std::optional<Pose> last_output_;

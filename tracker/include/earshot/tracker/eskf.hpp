@@ -301,6 +301,25 @@ class PoseEskf {
   EskfStep step_;
 };
 
+/// A filter step's pose carried across a gap with an Ornstein-Uhlenbeck
+/// velocity: over a loss longer than the velocity's correlation time a
+/// constant-velocity extrapolation overshoots, an OU velocity decays to rest.
+/// `spread` is the carried covariance (rotation rad, translation mm) with the
+/// displacement the acceleration noise q (rad^2/s^3, mm^2/s^3 per axis) adds.
+struct CarriedPose {
+  Pose pose;
+  Mat6 spread = Mat6::Zero();
+};
+struct OuMotion {
+  double q_rot = 1.0, q_trans = 5000.0;      ///< acceleration spectral densities
+  double tau_rot_s = 0.5, tau_trans_s = 1.0;  ///< velocity correlation times
+};
+[[nodiscard]] CarriedPose carry_ou(const EskfStep& step, double t, const OuMotion& m);
+/// Variance per axis of the displacement over dt of an OU velocity whose
+/// acceleration spectral density is q (stationary velocity variance q tau / 2);
+/// q dt^3 / 3 for dt << tau, as the eskf's white acceleration.
+[[nodiscard]] double ou_displacement_variance(double q, double tau, double dt);
+
 /// Fixed-interval Rauch-Tung-Striebel smoothing (offline: `track solve
 /// --smooth`), fed the filter's steps as they happen. It keeps of each step
 /// only what the backward pass over the mean needs: the predicted and

@@ -67,6 +67,11 @@ TEST(LiveTrackerThread, PublishesEveryPoseWhileReadersRead) {
   constexpr long kFrames = 400;
   std::atomic<bool> done{false};
   std::atomic<long> backwards{0}, nonfinite{0};
+  // Readers that have seen the last publication: the tracker can publish all
+  // its frames before a reader is first scheduled, so each reader reads on
+  // until it has seen the slot's final pose, and every run checks at least it.
+  std::atomic<std::uint64_t> end_sequence{~std::uint64_t{0}};
+  std::atomic<int> saw_end{0};
   // Each reader keeps a sample of what it loaded, checked afterwards against
   // what was published: a torn pose would not match its sequence number.
   std::array<std::vector<HeadPose>, 2> samples;
@@ -74,12 +79,17 @@ TEST(LiveTrackerThread, PublishesEveryPoseWhileReadersRead) {
   for (auto& sample : samples)
     readers.emplace_back([&] {
       std::uint64_t last = 0;
+      bool counted = false;
       while (!done.load(std::memory_order_acquire)) {
         const HeadPose p = slot.load();
         if (!p.finite()) nonfinite.fetch_add(1);
         if (p.sequence < last) backwards.fetch_add(1);
         if (p.sequence != last && sample.size() < 5000) sample.push_back(p);
         last = p.sequence;
+        if (!counted && p.sequence == end_sequence.load()) {
+          counted = true;
+          saw_end.fetch_add(1);
+        }
       }
     });
   std::vector<HeadPose> seen;  // written by the tracker thread only, read after stop
@@ -100,6 +110,8 @@ TEST(LiveTrackerThread, PublishesEveryPoseWhileReadersRead) {
     EXPECT_EQ(st.frames, static_cast<std::uint64_t>(kFrames));
     EXPECT_GT(st.rejected_dots, 0u);
   }
+  end_sequence = slot.load().sequence;  // the tracker has stopped: the slot is final
+  while (saw_end.load() < static_cast<int>(readers.size())) std::this_thread::yield();
   done = true;
   for (auto& r : readers) r.join();
   EXPECT_EQ(backwards.load(), 0);

@@ -466,6 +466,9 @@ void misses(const Options& o) {
             const DotFrame f = sim.next();
             speed.add(f.truth->pose, f.t);
             const std::optional<Pose> pred = tr.predict(f.t);
+            // How long before this frame the eskf was last fed (the flip log's
+            // "since the eskf"; -1 when it had no state).
+            const double eskf_age_ms = tr.eskf().initialised() ? 1000.0 * (f.t - tr.eskf().last_step().t) : -1.0;
             const TrackResult r = tr.process(f);
             const int leds = leds_seen(f);
             const bool flip = r.state == PoseState::tracking &&
@@ -494,12 +497,12 @@ void misses(const Options& o) {
               if (wrong_branch) ++wrong_branch_flips;
               if (o.flip_log && !was_flipped)
                 std::printf("flip %s/%s/%s seed %llu frame %ld: %d LEDs %d dots, used %d, labels %s, raw %.1f deg off, "
-                            "out %.1f deg off, rms %.2f px, track %d frames from %d dots, %s branch\n",
+                            "out %.1f deg off, rms %.2f px, track %d frames from %d dots, %s branch, eskf fed %.0f ms before\n",
                             motion_profile_name(w.motion).data(), b.name, pixels == PixelModel::integer ? "integer" : "8-px",
                             static_cast<unsigned long long>(seed), i, leds, f.visible(), r.dots_used,
                             labels_ok ? "right" : "wrong", raw_deg,
                             rotation_angle_between(r.pose.R, f.truth->pose.R) * 180.0 / M_PI, r.rms_px, r.track_frames,
-                            r.acquired_dots, wrong_branch ? "wrong" : "right");
+                            r.acquired_dots, wrong_branch ? "wrong" : "right", eskf_age_ms);
             }
             if (flip) ++flip_frames;
             if (was_flipped && !flip) {

@@ -85,6 +85,11 @@ struct DotTracker::Hypothesis {
   bool ambiguous = false;
   double ssr4 = -1.0;  ///< this frame's 4-dot sum of squared residuals (px^2), -1 without one
   int born_dots = 4;  ///< dots it was (re)acquired from
+  /// When four dots last fitted it within the pixel noise (acquired from
+  /// four, or followed on four): a track on three dots alone may have
+  /// drifted to a wrong root since.
+  double four_dot_t = -1e300;
+  int four_dot_frames = 0;  ///< frames four dots fitted it
 };
 
 DotTracker::DotTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg)
@@ -114,6 +119,10 @@ void DotTracker::reset() {
   output_hyp_id_ = 0;
   output_slot_led_ = {-1, -1, -1, -1};
   last_eskf_dots_ = 4;
+  eskf_trusted_ = false;
+  resumed_on_three_ = false;
+  prev_frame_t_ = -1e300;
+  eskf_four_dot_t_ = -1e300;
   cv_.reset();
   last_output_.reset();
   last_raw_.reset();
@@ -299,6 +308,10 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     h.cv.observe(pose, frame.t);
     h.rms = rms;
     h.dots = lab->dots.count;
+    if (h.dots >= 4) {
+      h.four_dot_t = frame.t;
+      ++h.four_dot_frames;
+    }
     h.slot_led = lab->slot_led;
     h.cost_sum += rms * rms;
     h.ssr_sum += lab->dots.count * rms * rms;
@@ -322,6 +335,9 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     acquired = labeller_.acquire(frame);
     if (noise_known)
       std::erase_if(acquired, [&](const Labelling& l) { return 4.0 * l.rms_px * l.rms_px > kChi2TwoDof999 * var; });
+    // A labelling no head motion from a trusted state explains is not
+    // acquired: after a short loss, or in place of a 3-dot track.
+    drop_unreachable(acquired, frame.t, var);
   }
   if (!hyps_.empty() && all_partial && !acquired.empty()) hyps_.clear();
 
@@ -338,6 +354,8 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       h.slot_led = l.slot_led;
       h.id = ++next_hyp_id_;
       h.ssr4 = 4.0 * l.rms_px * l.rms_px;
+      h.four_dot_t = frame.t;
+      h.four_dot_frames = 1;
       hyps_.push_back(h);
     }
     if (!hyps_.empty()) {
@@ -424,8 +442,43 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
     r.acquired_dots = best->born_dots;
     output_hyp_id_ = best->id;
     output_slot_led_ = best->slot_led;
+    // Trusted: acquired from four dots, and fitted by four dots on as many
+    // frames as rival explanations compete for (disambiguation_frames). Not
+    // a track that merely passed the reachability test at acquisition: after
+    // a gap of 0.17 s a 165 deg turn passes it, and a wrong labelling trusted
+    // so would refuse the right one.
+    eskf_trusted_ = best->born_dots >= 4 && best->four_dot_frames >= cfg_.disambiguation_frames;
+    eskf_four_dot_t_ = best->four_dot_t;
   }
   return r;
+}
+
+void DotTracker::drop_unreachable(std::vector<Labelling>& acquired, double t, double var) const {
+  // The state deserves trust only from a trusted track that four dots
+  // fitted within the eskf's gap limit, and that has not since taken a root
+  // of three dots by the prediction alone: such a track may sit on a wrong
+  // root, and then four dots far from it are the correction, not the error.
+  // Beyond the gap limit the eskf's state says nothing.
+  if (cfg_.filter != FilterKind::eskf || !eskf_.initialised() || !eskf_trusted_ || resumed_on_three_) return;
+  const EskfStep& st = eskf_.last_step();
+  if (t - st.t > cfg_.eskf.max_gap_s || t - eskf_four_dot_t_ > cfg_.eskf.max_gap_s) return;
+  // The labelling's pose is an estimate too: its own covariance from the
+  // four dots (large on 8-px cells) adds to the carried spread.
+  std::erase_if(acquired, [&](const Labelling& l) {
+    if (extends_output_labels(l.slot_led)) return false;
+    const Mat6 cov = pose_covariance(l.pose, l.dots.view(), cam_, model_, var);
+    return !(earshot::tracker::carried_mahalanobis2(st, cfg_.eskf, t, l.pose, cov) <= kChi2SixDof999);
+  });
+}
+
+bool DotTracker::extends_output_labels(const std::array<int, kSlots>& slot_led) const {
+  int same = 0;
+  for (size_t s = 0; s < kSlots; ++s) {
+    if (slot_led[s] < 0 || output_slot_led_[s] < 0) continue;
+    if (slot_led[s] != output_slot_led_[s]) return false;
+    ++same;
+  }
+  return same >= 3;
 }
 
 void DotTracker::reacquire_nearest(const DotFrame& frame, LmSolver& solver) {
@@ -511,6 +564,10 @@ void DotTracker::observe_camera(const Hypothesis& h, const DotFrame& frame) {
 }
 
 TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
+  // A pose from fewer than four dots right after frames not given out (held
+  // as ambiguous, or lost) chose its root with nothing but the prediction.
+  const bool resumed = last_solve_t_ < prev_frame_t_;
+  prev_frame_t_ = r.t;
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
     if (cfg_.method == SolverMethod::thesis)  // the LM path adds its own in process_lm
@@ -535,6 +592,8 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
           r.pose = eskf_.update(r.raw_pose, cov, r.t);
         }
         last_eskf_dots_ = dots.count;
+        if (dots.count >= 4) resumed_on_three_ = false;
+        else if (resumed) resumed_on_three_ = true;
         break;
       }
     }

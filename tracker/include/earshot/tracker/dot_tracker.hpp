@@ -30,6 +30,20 @@
 // taken when it is 1000 : 1 against every explanation more than 20 deg from
 // it and passes the same reachability test.
 //
+// A 4-dot acquisition, after a loss or in place of a track on three dots,
+// must be reachable too when the eskf's state deserves trust: its track was
+// acquired from four dots and four dots have fitted it on
+// `disambiguation_frames` frames (the span rival explanations compete
+// over), four dots fitted it within the eskf's gap limit, and no pose from
+// three dots was fed to it since right after a frame it was not fed (a root
+// chosen by the prediction alone). A labelling no head motion from that
+// state explains (99.9 %, chi-square 6 dof, the labelling's own covariance
+// added) is dropped: with 8-px cells three LEDs and a stray, or four LEDs
+// under another labelling, fit within the noise at a pose 45-180 deg away.
+// A labelling that keeps the last output's labels and adds a fourth dot is
+// never dropped (it settles the root a 3-dot track took), and a track that
+// does not deserve trust is still replaced by four dots that disagree.
+//
 // Rival explanations of four dots (another labelling, or a pose outside the
 // best one's own uncertainty) compete on their summed squared residuals; the
 // pose is not given out until the evidence for one is 100 : 1 under the
@@ -120,6 +134,17 @@ class DotTracker {
   /// Without the eskf: the one set of three dots whose labelling near the
   /// last raw pose gives a single clear answer (Labeller::reacquire3).
   void reacquire_nearest(const DotFrame& frame, LmSolver& solver);
+  /// When the eskf's state deserves trust (see the header comment): drops
+  /// the 4-dot labellings of an acquisition that no head motion from that
+  /// state explains (motion_reach.hpp, with the labelling's own covariance),
+  /// except one that only adds a dot to the last output's labels. After a
+  /// loss, what is left (if anything) is acquired, else three of the dots
+  /// re-acquire as after any loss; beside a 3-dot track, that track goes on.
+  void drop_unreachable(std::vector<Labelling>& acquired, double t, double var) const;
+  /// The labelling gives the three or more slots the last output labelled
+  /// the same LEDs: the same labels plus a fourth dot, which settles the
+  /// root a track on three dots took (never held to the reach).
+  [[nodiscard]] bool extends_output_labels(const std::array<int, kSlots>& slot_led) const;
   /// Learns the camera's dropout and stray shares from a tracked frame.
   void observe_camera(const Hypothesis& h, const DotFrame& frame);
   /// Covariance of the eskf's predicted pose at time t (rotation rad,
@@ -139,6 +164,15 @@ class DotTracker {
   long next_hyp_id_ = 0, output_hyp_id_ = 0;
   std::array<int, kSlots> output_slot_led_{-1, -1, -1, -1};
   int last_eskf_dots_ = 4;  ///< dots behind the eskf's last measurement
+  double eskf_four_dot_t_ = -1e300;  ///< when four dots last fitted the output's track
+  /// The output's track deserves trust: acquired from four dots and fitted
+  /// by four dots on disambiguation_frames frames.
+  bool eskf_trusted_ = false;
+  /// Since its last 4-dot update the eskf took a pose from three dots right
+  /// after a frame it was not fed: a root chosen by the prediction alone.
+  bool resumed_on_three_ = false;
+  double prev_frame_t_ = -1e300;  ///< the previous frame's time
+
   PixelNoiseEstimator pixel_noise_;
   CameraBehaviour camera_stats_;
   long noise_samples_ = 0;  ///< 4-dot fits the pixel noise estimate has seen

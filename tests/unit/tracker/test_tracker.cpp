@@ -248,17 +248,24 @@ TEST(DotTracker, WaitsWhileTwoLabellingsOfFourDotsFitTheNoise) {
 }
 
 namespace {
-/// A still head mid-image at 1 m, tracked from four dots for 0.5 s, then two
-/// dots for 30 ms (lost), then `last` (built from the same pose). The result
-/// of that frame.
-TrackResult after_loss(FilterKind filter, const std::function<DotFrame(const Pose&, double)>& last) {
-  const Camera cam;
-  const LedModel model;
+/// The head of the loss tests: still, mid-image, 1 m from the camera.
+const Pose kStillHead{rotation_from_ypr(0.2, 0.1, 0.3), Vec3(20, -10, 1000)};
+
+/// A tracker that calls the head lost after 30 ms with too few dots.
+DotTracker losing_tracker(FilterKind filter) {
   TrackerConfig cfg;
   cfg.filter = filter;
   cfg.predict_timeout_s = 0.03;
-  DotTracker tracker(cam, model, cfg);
-  const Pose still{rotation_from_ypr(0.2, 0.1, 0.3), Vec3(20, -10, 1000)};
+  return DotTracker(Camera{}, LedModel{}, cfg);
+}
+
+/// The still head tracked from four dots for 0.5 s, then two dots for 30 ms
+/// (lost), then `last` (built from the same pose). The result of that frame.
+TrackResult after_loss(FilterKind filter, const std::function<DotFrame(const Pose&, double)>& last) {
+  const Camera cam;
+  const LedModel model;
+  DotTracker tracker = losing_tracker(filter);
+  const Pose& still = kStillHead;
   for (int i = 0; i < 50; ++i) tracker.process(fixtures::frame_of(still, cam, model, {0, 1, 2, 3}, 0.01 * i));
   for (int i = 50; i < 54; ++i) tracker.process(fixtures::frame_of(still, cam, model, {0, 1, -1, -1}, 0.01 * i));
   return tracker.process(last(still, 0.54));
@@ -276,7 +283,7 @@ TEST(DotTracker, ReacquiresByEvidenceWhenTheUnseenLedMerelyDroppedOut) {
   EXPECT_NE(plain.state, PoseState::tracking);  // the rule before: no single clear answer
   const TrackResult r = after_loss(FilterKind::eskf, three);
   ASSERT_EQ(r.state, PoseState::tracking);
-  EXPECT_LT(rotation_angle_between(r.pose.R, rotation_from_ypr(0.2, 0.1, 0.3)), 0.02);
+  EXPECT_LT(rotation_angle_between(r.pose.R, kStillHead.R), 0.02);
   EXPECT_EQ(r.slot_led[0], 2);
   EXPECT_EQ(r.slot_led[2], 0);
 }
@@ -305,11 +312,8 @@ namespace {
 PoseState after_a_half_turn(FilterKind filter, int tracked, double gap_s) {
   const Camera cam;
   const LedModel model;
-  TrackerConfig cfg;
-  cfg.filter = filter;
-  cfg.predict_timeout_s = 0.03;
-  DotTracker tracker(cam, model, cfg);
-  const Pose still{rotation_from_ypr(0.2, 0.1, 0.3), Vec3(20, -10, 1000)};
+  DotTracker tracker = losing_tracker(filter);
+  const Pose& still = kStillHead;
   for (int i = 0; i < tracked; ++i)
     EXPECT_EQ(tracker.process(fixtures::frame_of(still, cam, model, {0, 1, 2, 3}, 0.01 * i)).state, PoseState::tracking);
   const double last = 0.01 * (tracked - 1);

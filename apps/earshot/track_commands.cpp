@@ -185,14 +185,12 @@ void run_solve(const SolveOptions& o) {
     };
     std::vector<Kept> kept;
     RtsSmoother smoother;
-    SegmentCollector segments;
     std::vector<size_t> step_frame;
     while (auto f = reader.next()) {
       const TrackResult r = tracker.process(*f);
       kept.push_back({r.t, r.rms_px, r.state, leds_seen(*f), r.pose, f->truth ? std::optional<Pose>(f->truth->pose) : std::nullopt});
       if (r.state == PoseState::tracking) {
         smoother.add(tracker.eskf().last_step());
-        segments.add(tracker.eskf().last_step());
         step_frame.push_back(kept.size() - 1);
       }
     }
@@ -200,7 +198,7 @@ void run_solve(const SolveOptions& o) {
     // the live tracker gave out until the evidence came) is not vouched
     // for: those frames are lost, holding the last kept pose.
     const std::vector<Pose> smooth = smoother.smooth();
-    const std::vector<bool> vouched = vet_segments(segments.segments(), smooth.size(), cfg.eskf);
+    const std::vector<bool> vouched = vet_segments(smoother.segments(), smooth.size(), cfg.eskf);
     std::optional<Pose> held;
     for (size_t k = 0; k < smooth.size(); ++k) {
       Kept& frame = kept[step_frame[k]];

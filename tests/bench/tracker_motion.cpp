@@ -285,11 +285,12 @@ void run(const Options& o, MotionProfile motion, const Beacon& b, PixelModel pix
     pixel_var_sum += eskf.pixel_variance();
     // Offline: RTS over the filter's steps, then the segments no head motion
     // connects to their neighbours dropped (segment_vetting.hpp): their
-    // frames become predictions, neither tracked nor counted in the error.
-    const std::vector<Pose> smooth = rts_smooth(steps);
-    SegmentCollector segs;
-    for (const auto& st : steps) segs.add(st);
-    const std::vector<bool> kept = o.vet ? vet_segments(segs.segments(), steps.size(), o.eskf)
+    // frames are lost, neither tracked nor counted in the error.
+    RtsSmoother smoother;
+    smoother.reserve(steps.size());
+    for (const auto& st : steps) smoother.add(st);
+    const std::vector<Pose> smooth = smoother.smooth();
+    const std::vector<bool> kept = o.vet ? vet_segments(smoother.segments(), steps.size(), o.eskf)
                                          : std::vector<bool>(steps.size(), true);
     long dropped3 = 0;
     for (size_t k = 0; k < smooth.size(); ++k) {

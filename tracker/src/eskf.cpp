@@ -430,6 +430,18 @@ void PoseEskf::adapt(double dt) {
 }
 
 void RtsSmoother::add(const EskfStep& step) {
+  if (nodes_.empty() || step.restart) {
+    if (!segs_.empty()) {  // the open segment ends at the step before this one
+      segs_.back().last = nodes_.size() - 1;
+      segs_.back().end = last_end();
+    }
+    EskfSegment seg;
+    seg.first = nodes_.size();
+    seg.t_first = step.t;
+    seg.first_pose = step.pose_upd;
+    seg.first_cov = step.P_upd.topLeftCorner<6, 6>();
+    segs_.push_back(seg);
+  }
   if (!nodes_.empty() && !step.restart) {
     // C = P_upd(k) F^T P_pred(k+1)^-1, the gain from step k+1 back to k.
     const Mat12 C = last_P_upd_ * eskf_transition(step.rotation, step.dt).transpose() * sym_inverse<12>(step.P_pred);
@@ -445,6 +457,26 @@ void RtsSmoother::add(const EskfStep& step) {
   n.restart = step.restart;
   nodes_.push_back(n);
   last_P_upd_ = step.P_upd;
+  last_t_ = step.t;
+}
+
+EskfStep RtsSmoother::last_end() const {
+  EskfStep e;
+  e.t = last_t_;
+  e.pose_upd = nodes_.back().pose_upd;
+  e.w_upd = nodes_.back().w_upd;
+  e.v_upd = nodes_.back().v_upd;
+  e.P_upd = last_P_upd_;
+  return e;
+}
+
+std::vector<EskfSegment> RtsSmoother::segments() const {
+  std::vector<EskfSegment> out = segs_;
+  if (!out.empty()) {
+    out.back().last = nodes_.size() - 1;
+    out.back().end = last_end();
+  }
+  return out;
 }
 
 std::vector<Pose> RtsSmoother::smooth() const {

@@ -15,22 +15,6 @@ double distance2(const EskfSegment& earlier, const EskfSegment& later, const Esk
 
 }  // namespace
 
-void SegmentCollector::add(const EskfStep& step) {
-  if (segs_.empty() || step.restart) {
-    EskfSegment s;
-    s.first = s.last = steps_;
-    s.t_first = step.t;
-    s.first_pose = step.pose_upd;
-    s.first_cov = step.P_upd.topLeftCorner<6, 6>();
-    s.end = step;
-    segs_.push_back(s);
-  } else {
-    segs_.back().last = steps_;
-    segs_.back().end = step;
-  }
-  ++steps_;
-}
-
 std::vector<bool> vet_segments(std::span<const EskfSegment> segs, std::size_t steps, const EskfParams& q) {
   std::vector<bool> kept(steps, true);
   const std::size_t n = segs.size();

@@ -59,9 +59,9 @@ std::vector<EskfStep> steps_of(const std::vector<Stretch>& stretches, double deg
 }
 
 std::vector<bool> vet(const std::vector<EskfStep>& steps) {
-  SegmentCollector c;
-  for (const auto& s : steps) c.add(s);
-  return vet_segments(c.segments(), c.steps(), EskfParams{});
+  RtsSmoother smoother;
+  for (const auto& s : steps) smoother.add(s);
+  return vet_segments(smoother.segments(), smoother.size(), EskfParams{});
 }
 
 long dropped(const std::vector<bool>& kept, std::size_t from, std::size_t to) {
@@ -139,4 +139,26 @@ TEST(SegmentVetting, KeepsTheEnds) {
   const std::vector<EskfStep> last = steps_of({{0, 50}, {51, 90}, {91, 99, 45.0}}, 150.0);
   EXPECT_EQ(dropped(vet(last), 0, last.size()), 0);
   EXPECT_EQ(vet(steps_of({{0, 50}}, 150.0)).size(), 50u);
+}
+
+TEST(RtsSmootherSegments, AreTheStretchesBetweenRestartsWithTheirEndStates) {
+  const std::vector<EskfStep> steps = steps_of({{0, 50}, {51, 59, 45.0}, {60, 110}}, 150.0);
+  RtsSmoother smoother;
+  for (const auto& s : steps) smoother.add(s);
+  const std::vector<EskfSegment> segs = smoother.segments();
+  ASSERT_EQ(segs.size(), 3u);
+  const std::size_t bounds[3][2] = {{0, 49}, {50, 57}, {58, 107}};
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(segs[k].first, bounds[k][0]);
+    EXPECT_EQ(segs[k].last, bounds[k][1]);
+    const EskfStep& first = steps[segs[k].first];
+    const EskfStep& last = steps[segs[k].last];
+    EXPECT_EQ(segs[k].t_first, first.t);
+    EXPECT_TRUE(segs[k].first_pose.R.isApprox(first.pose_upd.R));
+    EXPECT_TRUE(segs[k].first_cov.isApprox(first.P_upd.topLeftCorner<6, 6>()));
+    EXPECT_EQ(segs[k].end.t, last.t);
+    EXPECT_TRUE(segs[k].end.pose_upd.R.isApprox(last.pose_upd.R));
+    EXPECT_TRUE(segs[k].end.w_upd.isApprox(last.w_upd));
+    EXPECT_TRUE(segs[k].end.P_upd.isApprox(last.P_upd));
+  }
 }

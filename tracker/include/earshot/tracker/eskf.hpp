@@ -310,15 +310,32 @@ struct CarriedPose {
   Pose pose;
   Mat6 spread = Mat6::Zero();
 };
+/// Correlation times of head velocity (rotation, translation), seconds: the
+/// figures the eskf's q comes from (above).
+inline constexpr double kHeadRotationTauS = 0.5;
+inline constexpr double kHeadTranslationTauS = 1.0;
 struct OuMotion {
-  double q_rot = 1.0, q_trans = 5000.0;      ///< acceleration spectral densities
-  double tau_rot_s = 0.5, tau_trans_s = 1.0;  ///< velocity correlation times
+  /// Acceleration spectral densities (the literature's, as EskfParams).
+  double q_rot = EskfParams{}.angular_accel_psd, q_trans = EskfParams{}.linear_accel_psd;
+  double tau_rot_s = kHeadRotationTauS, tau_trans_s = kHeadTranslationTauS;  ///< velocity correlation times
 };
 [[nodiscard]] CarriedPose carry_ou(const EskfStep& step, double t, const OuMotion& m);
 /// Variance per axis of the displacement over dt of an OU velocity whose
 /// acceleration spectral density is q (stationary velocity variance q tau / 2);
 /// q dt^3 / 3 for dt << tau, as the eskf's white acceleration.
 [[nodiscard]] double ou_displacement_variance(double q, double tau, double dt);
+
+/// One stretch of the filter between restarts, as the smoother saw it: what
+/// judging it against its neighbours needs (segment_vetting.hpp).
+struct EskfSegment {
+  std::size_t first = 0, last = 0;  ///< indices of its first and last step
+  double t_first = 0.0;
+  Pose first_pose;                ///< the filter's pose at its first step
+  Mat6 first_cov = Mat6::Zero();  ///< and its covariance (the measurement's: a restart takes it as it is)
+  /// Its last step's time, updated state and covariance (the rest of the
+  /// step is not kept).
+  EskfStep end;
+};
 
 /// Fixed-interval Rauch-Tung-Striebel smoothing (offline: `track solve
 /// --smooth`), fed the filter's steps as they happen. It keeps of each step
@@ -334,6 +351,9 @@ class RtsSmoother {
   [[nodiscard]] size_t size() const { return nodes_.size(); }
   /// One smoothed pose per step added, in order.
   [[nodiscard]] std::vector<Pose> smooth() const;
+  /// The stretches between restarts, in order (each closed when the next
+  /// restart arrives: nothing more is copied per step).
+  [[nodiscard]] std::vector<EskfSegment> segments() const;
 
  private:
   struct Node {
@@ -342,8 +362,13 @@ class RtsSmoother {
     Eigen::Matrix<float, 12, 12> gain = Eigen::Matrix<float, 12, 12>::Zero();  ///< to the next step
     bool restart = false;
   };
+  /// The last step's end of a segment, from what add() keeps anyway.
+  [[nodiscard]] EskfStep last_end() const;
+
   std::vector<Node> nodes_;
   Mat12 last_P_upd_ = Mat12::Zero();
+  double last_t_ = 0.0;
+  std::vector<EskfSegment> segs_;  ///< the segments so far, the last one open (its end not yet filled)
 };
 
 /// rts_smooth over a run of kept steps (RtsSmoother fed all of them).

@@ -6,7 +6,8 @@
 // Across a gap a constant-velocity extrapolation overshoots: head velocity
 // decorrelates over ~0.5 s (rotation) and ~1 s (translation), the figures
 // eskf.hpp's q comes from. So the state is carried with an Ornstein-
-// Uhlenbeck velocity of those correlation times (carry_ou, eskf.hpp), its
+// Uhlenbeck velocity of those correlation times (kHeadRotationTauS and
+// kHeadTranslationTauS, carry_ou: eskf.hpp), its
 // acceleration noise at the largest scale the eskf's manoeuvre test tries
 // (kMaxManoeuvreScale): a pose outside the 99.9 % bound of chi-square with 6
 // degrees of freedom is one that no head motion the filter accepts explains.
@@ -16,9 +17,6 @@
 
 namespace earshot::tracker {
 
-/// Correlation times of head velocity (rotation, translation), seconds.
-inline constexpr double kHeadRotationTauS = 0.5;
-inline constexpr double kHeadTranslationTauS = 1.0;
 /// 99.9 % point of chi-square with 6 degrees of freedom.
 inline constexpr double kChi2SixDof999 = 22.46;
 

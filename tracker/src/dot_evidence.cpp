@@ -59,7 +59,7 @@ bool same_pose(const Pose& a, const Pose& b) {
 
 }  // namespace
 
-std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam_, const LedModel& model_, double pixel_variance) {
+std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam, const LedModel& model, double pixel_variance) {
   std::vector<Vec2> px;
   std::vector<int> slot;
   for (size_t s = 0; s < kSlots; ++s)
@@ -69,9 +69,9 @@ std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam_, 
     }
   const int n = static_cast<int>(px.size());
   std::vector<DotExplanation> out;
-  const double max_beam = model_.half_angle + kBeamMarginRad;
+  const double max_beam = model.half_angle + kBeamMarginRad;
   auto add = [&](const Pose& p, const LabelledDots& d, const std::array<int, kSlots>& slot_led) {
-    if (!p.finite() || !leds_face_camera(p, model_, d.view(), max_beam)) return;
+    if (!p.finite() || !leds_face_camera(p, model, d.view(), max_beam)) return;
     for (const auto& e : out)
       if (e.dots.count == d.count && std::equal(e.dots.items.begin(), e.dots.items.begin() + d.count, d.items.begin(),
                                                 [](const auto& a, const auto& b) { return a.led == b.led && a.pixel == b.pixel; }) &&
@@ -116,17 +116,17 @@ std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam_, 
       }
       std::array<Vec3, 3> bearings, pts;
       for (size_t i = 0; i < 3; ++i) {
-        bearings[i] = cam_.bearing(d.items[i].pixel);
-        pts[i] = model_.leds_mm[static_cast<size_t>(d.items[i].led)];
+        bearings[i] = cam.bearing(d.items[i].pixel);
+        pts[i] = model.leds_mm[static_cast<size_t>(d.items[i].led)];
       }
       const P3PSolutions roots = p3p_lambda_twist(bearings, pts);
       for (int r = 0; r < roots.count; ++r) {
         Pose p = roots.poses[static_cast<size_t>(r)];
         if (k == 4) {
-          const Vec3 P = p.apply(model_.leds_mm[static_cast<size_t>(d.items[3].led)]);
-          if (P.z() <= 1.0 || (cam_.project(P) - d.items[3].pixel).norm() > kFourthDotGatePx) continue;
-          p = refine_pose_lm(p, d.view(), cam_, model_).pose;
-          const double rms = rms_reprojection_error(p, d.view(), cam_, model_);
+          const Vec3 P = p.apply(model.leds_mm[static_cast<size_t>(d.items[3].led)]);
+          if (P.z() <= 1.0 || (cam.project(P) - d.items[3].pixel).norm() > kFourthDotGatePx) continue;
+          p = refine_pose_lm(p, d.view(), cam, model).pose;
+          const double rms = rms_reprojection_error(p, d.view(), cam, model);
           if (!(4.0 * rms * rms <= kHopelessChi2 * pixel_variance)) continue;
         }
         add(p, d, slot_led);
@@ -156,44 +156,44 @@ double log_dots_given_prediction(const LabelledDots& d, const CarriedPose& c, co
 }
 }  // namespace
 
-void score_explanation(DotExplanation& e, const Camera& cam_, const LedModel& model_, const EvidenceModel& g_,
+void score_explanation(DotExplanation& e, const Camera& cam, const LedModel& model, const EvidenceModel& g,
                        const std::optional<MotionPrior>& prior) {
-  const double var = g_.pixel_variance;
+  const double var = g.pixel_variance;
   if (e.partial) {
     if (!prior) return;  // nothing to score two dots against
     e.pose = e.fused = prior->nominal.pose;
   }
   double ssr = 0.0;
   for (const auto& c : e.dots.view()) {
-    const Vec3 P = e.pose.apply(model_.leds_mm[static_cast<size_t>(c.led)]);
-    ssr += P.z() > 1.0 ? (cam_.project(P) - c.pixel).squaredNorm() : 1e12;
+    const Vec3 P = e.pose.apply(model.leds_mm[static_cast<size_t>(c.led)]);
+    ssr += P.z() > 1.0 ? (cam.project(P) - c.pixel).squaredNorm() : 1e12;
   }
   double l = -e.dots.count * std::log(kTwoPi * var) - 0.5 * ssr / var;
   // Strays: uniform over the image; none: the frames without one.
-  l += e.strays > 0 ? e.strays * std::log(g_.stray_share / (cam_.width * cam_.height)) : std::log(1.0 - g_.stray_share);
+  l += e.strays > 0 ? e.strays * std::log(g.stray_share / (cam.width * cam.height)) : std::log(1.0 - g.stray_share);
   // Every LED the pose puts in view is either seen or dropped out.
-  const double cos_half = std::cos(model_.half_angle);
+  const double cos_half = std::cos(model.half_angle);
   for (int led = 0; led < 4; ++led) {
     bool seen = false;
     for (const auto& c : e.dots.view()) seen = seen || c.led == led;
-    const Vec3 P = e.pose.apply(model_.leds_mm[static_cast<size_t>(led)]);
-    const bool in_view = P.z() > 1.0 && (e.pose.R * model_.axis).dot(-P.normalized()) >= cos_half && cam_.inside(cam_.project(P));
-    if (seen) l += std::log(1.0 - g_.dropped_share);
-    else if (in_view) l += std::log(g_.dropped_share);
+    const Vec3 P = e.pose.apply(model.leds_mm[static_cast<size_t>(led)]);
+    const bool in_view = P.z() > 1.0 && (e.pose.R * model.axis).dot(-P.normalized()) >= cos_half && cam.inside(cam.project(P));
+    if (seen) l += std::log(1.0 - g.dropped_share);
+    else if (in_view) l += std::log(g.dropped_share);
   }
   if (e.partial) {
     // The dots' own term is the pose-integrated density, not a fit.
     l += e.dots.count * std::log(kTwoPi * var) + 0.5 * ssr / var;
-    l += log_sum_exp(std::log(1.0 - g_.wide_weight) + log_dots_given_prediction(e.dots, prior->nominal, cam_, model_, var),
-                     std::log(g_.wide_weight) + log_dots_given_prediction(e.dots, prior->wide, cam_, model_, var));
+    l += log_sum_exp(std::log(1.0 - g.wide_weight) + log_dots_given_prediction(e.dots, prior->nominal, cam, model, var),
+                     std::log(g.wide_weight) + log_dots_given_prediction(e.dots, prior->wide, cam, model, var));
     e.log_evidence = l;
     return;
   }
-  e.cov = pose_covariance(e.pose, e.dots.view(), cam_, model_, var);
+  e.cov = pose_covariance(e.pose, e.dots.view(), cam, model, var);
   if (prior) {
     e.fused = fuse(e.pose, e.cov, prior->nominal);
-    l += log_sum_exp(std::log(1.0 - g_.wide_weight) + log_pose_evidence(e.pose, prior->nominal, e.cov),
-                     std::log(g_.wide_weight) + log_pose_evidence(e.pose, prior->wide, e.cov));
+    l += log_sum_exp(std::log(1.0 - g.wide_weight) + log_pose_evidence(e.pose, prior->nominal, e.cov),
+                     std::log(g.wide_weight) + log_pose_evidence(e.pose, prior->wide, e.cov));
   } else {
     e.fused = e.pose;
     l += 0.5 * log_det(e.cov);  // a flat prior: only the volume each pose spans

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Checks that the docs name only what exists.
 
-For README.md and docs/*.md:
+For README.md, docs/*.md and each folder's README.md:
   - every repository path they mention (in `backticks`, links or images, or in a
     code block) exists: a file or folder of the source tree, a header named the
     way code includes it (`earshot/...`), or, for `build/release/...`, a file of
@@ -23,10 +23,18 @@ import shlex
 import subprocess
 import sys
 
-TOP = ("apps", "audio", "cmake", "common", "docs", "hrtf", "host", "plugin", "scenes", "shared",
-       "scripts", "tests", "tools", "tracker", ".ci", "lv2")
-PATH_RE = re.compile(r"(?<![\w./-])((?:\./)?(?:%s|build/release)/[\w./*{},+-]*[\w*}])" %
-                     "|".join(re.escape(t) for t in TOP))
+# The repository's own top-level folders (read from the tree, so a new folder is
+# covered the day it lands), and .ci. Paths beginning with one are checked.
+def top_folders(root):
+    return sorted([d for d in os.listdir(root) if os.path.isdir(os.path.join(root, d)) and
+                   not d.startswith(".") and not d.startswith("build")] + [".ci"])
+
+
+def path_re(top):
+    return re.compile(r"(?<![\w./-])((?:\./)?(?:%s|build/release)/[\w./*{},+-]*[\w*}])" %
+                      "|".join(re.escape(t) for t in top))
+
+
 INCLUDE_RE = re.compile(r"(?<![\w./-])(earshot/[\w/]+\.(?:h|hpp))\b")
 MD_RE = re.compile(r"`([\w.-]+\.md)`")
 FENCE_RE = re.compile(r"^\s*```")
@@ -37,6 +45,7 @@ LINK_RE = re.compile(r"\]\(([^)#\s]+)\)")
 class Checker:
     def __init__(self, root, build, earshot):
         self.root, self.build, self.earshot = root, build, earshot
+        self.path_re = path_re(top_folders(root))
         self.problems = []
         self.help_cache = {}
 
@@ -71,7 +80,7 @@ class Checker:
                     glob.glob(os.path.join(self.root, "*", "*", "include", inc)))
 
     def check_paths(self, where, text):
-        for m in PATH_RE.finditer(text):
+        for m in self.path_re.finditer(text):
             p = m.group(1)
             if p.endswith("/") or "..." in p or "PATH" in p or "NAME" in p:
                 continue
@@ -205,12 +214,24 @@ class Checker:
             self.check_command(*pending)
 
 
+def default_docs(root):
+    """README.md, docs/*.md and the README.md of every folder (build trees aside)."""
+    docs = [os.path.join(root, "README.md")] + sorted(glob.glob(os.path.join(root, "docs", "*.md")))
+    for top in top_folders(root):
+        for d, subdirs, files in os.walk(os.path.join(root, top)):
+            subdirs[:] = sorted(x for x in subdirs if not x.startswith("build"))
+            if "README.md" in files and d != root:
+                docs.append(os.path.join(d, "README.md"))
+    return docs
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--root", required=True, help="the source tree")
     ap.add_argument("--build", help="the Release build tree (build/release/... paths are checked in it)")
     ap.add_argument("--earshot", help="the earshot executable (commands are checked with --help)")
-    ap.add_argument("docs", nargs="*", help="Markdown files (default: README.md and docs/*.md)")
+    ap.add_argument("docs", nargs="*", help="Markdown files (default: README.md, docs/*.md and every "
+                                            "folder's README.md)")
     a = ap.parse_args()
     if not os.path.isdir(a.root):
         print(f"check_docs: --root {a.root}: not a folder", file=sys.stderr)
@@ -218,7 +239,7 @@ def main():
     if a.earshot and not os.access(a.earshot, os.X_OK):
         print(f"check_docs: --earshot {a.earshot}: not an executable", file=sys.stderr)
         return 2
-    docs = a.docs or [os.path.join(a.root, "README.md")] + sorted(glob.glob(os.path.join(a.root, "docs", "*.md")))
+    docs = a.docs or default_docs(a.root)
     c = Checker(os.path.abspath(a.root), a.build and os.path.abspath(a.build),
                 a.earshot and os.path.abspath(a.earshot))
     for d in docs:

@@ -26,9 +26,9 @@
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/stop_signals.hpp"
-#include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/pose_track_csv.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/pose_track_csv.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 #include "demo/audio_output.hpp"
 #include "demo/keys.hpp"
 #include "demo/live_demo.hpp"
@@ -95,7 +95,7 @@ TrackedHead track_to_file(const DemoArgs& a, double duration, const std::filesys
   pipeline.request_recenter();  // the first pose seen is straight ahead
   std::ofstream out(poses);
   if (!out) throw InputError::at(poses.string(), 0, "", "cannot write");
-  tracker::PoseTrackCsvWriter writer(out);
+  PoseTrackCsvWriter writer(out);
   TrackedHead head;
   for (;;) {
     const tracker::SourceEvent e = source->next(std::chrono::milliseconds(0));

@@ -1,5 +1,5 @@
 // `earshot track calibrate`: the LED model from a recording of the head
-// moving in front of the camera (tracker/include/earshot/tracker/led_calibration.hpp).
+// moving in front of the camera (tracker/calibration/include/earshot/tracker/calibration/led_calibration.hpp).
 #include "track_calibrate.hpp"
 
 #include <CLI/CLI.hpp>
@@ -8,8 +8,8 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/led_calibration.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/calibration/led_calibration.hpp"
 
 namespace earshot::app {
 namespace {

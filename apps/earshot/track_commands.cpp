@@ -10,14 +10,14 @@
 #include <vector>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/led_model.hpp"
-#include "earshot/tracker/poses_csv.hpp"
-#include "earshot/tracker/segment_vetting.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/core/poses_csv.hpp"
+#include "earshot/tracker/filter/segment_vetting.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "track_calibrate.hpp"
 #include "track_video.hpp"
 

@@ -19,10 +19,10 @@
 #include "earshot/geometry.hpp"
 #include "earshot/pose_slot.hpp"
 #include "earshot/stop_signals.hpp"
-#include "earshot/tracker/led_model.hpp"
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/pose_track_csv.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/pose_track_csv.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 #include "track_commands.hpp"
 
 namespace earshot::app {

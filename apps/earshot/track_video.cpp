@@ -15,9 +15,9 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/led_model.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "earshot/webcam/video_sim.hpp"
 #include "earshot/webcam/y4m_writer.hpp"
 

@@ -1,6 +1,6 @@
 #include "shared_tracker.hpp"
 
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 namespace earshot::lv2 {
 

@@ -15,7 +15,7 @@
 #include <string>
 
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
 
 namespace earshot::lv2 {
 
@@ -31,7 +31,7 @@ class SharedTrackers {
   /// The registry of this process (one per loaded plugin library).
   static SharedTrackers& process();
 
-  /// The running tracker for `spec` (tracker/source_spec.hpp, e.g. "wiimote",
+  /// The running tracker for `spec` (tracker/live/source_spec.hpp, e.g. "wiimote",
   /// "osc:9000"), started if no instance holds one. Throws InputError for a
   /// bad spec and what the source throws (e.g. a UDP port in use).
   [[nodiscard]] std::shared_ptr<TrackerLease> acquire(const std::string& spec);

@@ -7,7 +7,7 @@
 #pragma once
 
 #include "earshot/earshot.h"
-#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
 
 namespace earshot::plugin {
 

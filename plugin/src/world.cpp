@@ -8,9 +8,9 @@
 
 #include "earshot/audio/crossfade.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
-#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/geometry.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 #include "tracker_state.hpp"
 
 namespace earshot::plugin {

@@ -7,15 +7,15 @@
 namespace earshot::scenes {
 
 PoseTrack PoseTrack::read(std::istream& in, const std::string& origin) {
-  return PoseTrack(tracker::read_pose_track_csv(in, origin));
+  return PoseTrack(read_pose_track_csv(in, origin));
 }
 
-PoseTrack PoseTrack::load(const std::filesystem::path& path) { return PoseTrack(tracker::load_pose_track_csv(path)); }
+PoseTrack PoseTrack::load(const std::filesystem::path& path) { return PoseTrack(load_pose_track_csv(path)); }
 
 audio::ListenerState PoseTrack::at(double t) const {
   audio::ListenerState s;
   const auto it = std::upper_bound(rows_.begin(), rows_.end(), t,
-                                   [](double x, const tracker::PoseTrackRow& r) { return x < r.t; });
+                                   [](double x, const PoseTrackRow& r) { return x < r.t; });
   if (it == rows_.begin() || it == rows_.end()) {
     const auto& r = it == rows_.begin() ? rows_.front() : rows_.back();
     s.position = r.position;

@@ -3,8 +3,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/lm_refine.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
 
 namespace earshot::tracker::bench {
 namespace {

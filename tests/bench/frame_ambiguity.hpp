@@ -41,11 +41,11 @@
 #include <optional>
 #include <vector>
 
-#include "earshot/tracker/camera.hpp"
-#include "earshot/tracker/dot_evidence.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/core/camera.hpp"
+#include "earshot/tracker/track/dot_evidence.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/core/led_model.hpp"
 
 namespace earshot::tracker::bench {
 

@@ -4,8 +4,8 @@
 
 #include <optional>
 
-#include "earshot/tracker/camera.hpp"
-#include "earshot/tracker/correspondence.hpp"
+#include "earshot/tracker/core/camera.hpp"
+#include "earshot/tracker/core/correspondence.hpp"
 
 namespace earshot::bench {
 

@@ -21,8 +21,8 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/core/poses_csv.hpp"
 #include "opencv_pnp.hpp"
 
 using namespace earshot::tracker;

@@ -17,10 +17,10 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/lm_refine.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "opencv_pnp.hpp"
 
 using namespace earshot::tracker;

@@ -7,12 +7,12 @@
 
 #include <vector>
 
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/labeller.hpp"
-#include "earshot/tracker/lm_solver.hpp"
-#include "earshot/tracker/p3p.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/track/labeller.hpp"
+#include "earshot/tracker/solve/lm_solver.hpp"
+#include "earshot/tracker/solve/p3p.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "opencv_pnp.hpp"
 
 using namespace earshot::tracker;

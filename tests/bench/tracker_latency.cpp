@@ -14,8 +14,8 @@
 #include <thread>
 #include <vector>
 
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 
 using namespace earshot::tracker;
 using earshot::HeadPose;

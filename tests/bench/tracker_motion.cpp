@@ -36,12 +36,12 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/lm_refine.hpp"
-#include "earshot/tracker/segment_vetting.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
+#include "earshot/tracker/filter/segment_vetting.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "frame_ambiguity.hpp"
 
 using namespace earshot::tracker;

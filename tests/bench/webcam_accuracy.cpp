@@ -33,10 +33,10 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/lm_refine.hpp"
-#include "earshot/tracker/lm_solver.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
+#include "earshot/tracker/solve/lm_solver.hpp"
 #include "earshot/webcam/dot_detector.hpp"
 #include "earshot/webcam/video_sim.hpp"
 

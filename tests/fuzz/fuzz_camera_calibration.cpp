@@ -6,10 +6,10 @@
 #include <string_view>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/camera_calibration.hpp"
+#include "earshot/webcam/camera_calibration.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  using namespace earshot::tracker;
+  using namespace earshot::webcam;
   try {
     const CameraCalibration c =
         parse_camera_calibration(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yml");

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

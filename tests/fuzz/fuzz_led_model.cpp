@@ -4,7 +4,7 @@
 #include <string_view>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/core/led_model.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -6,7 +6,7 @@
 #include <span>
 #include <string>
 
-#include "earshot/tracker/opentrack_packet.hpp"
+#include "earshot/tracker/sources/opentrack_packet.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   namespace t = earshot::tracker;

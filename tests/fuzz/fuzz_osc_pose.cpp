@@ -9,7 +9,7 @@
 #include <span>
 #include <string>
 
-#include "earshot/tracker/osc_pose.hpp"
+#include "earshot/tracker/sources/osc_pose.hpp"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// Fuzzes the Pose track CSV reader (tracker/pose_track_csv.hpp) through the
+// Fuzzes the Pose track CSV reader (common/pose_track_csv.hpp) through the
 // scenes::PoseTrack built on it: a track or InputError; interpolated poses
 // are finite with unit quaternions.
 #include <cmath>

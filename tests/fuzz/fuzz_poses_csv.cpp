@@ -5,7 +5,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/core/poses_csv.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));

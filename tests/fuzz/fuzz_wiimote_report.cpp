@@ -6,7 +6,7 @@
 #include <span>
 #include <string>
 
-#include "earshot/tracker/wiimote_protocol.hpp"
+#include "earshot/tracker/sources/wiimote_protocol.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   namespace w = earshot::tracker::wiimote;

@@ -7,7 +7,7 @@
 #include <cstdlib>
 #include <span>
 
-#include "earshot/tracker/wiimote_source.hpp"
+#include "earshot/tracker/sources/wiimote_source.hpp"
 
 namespace {
 

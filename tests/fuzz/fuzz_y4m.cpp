@@ -6,12 +6,12 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/y4m_reader.hpp"
+#include "earshot/webcam/y4m_reader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   try {
-    earshot::tracker::Y4mReader r(in, "fuzz.y4m");
+    earshot::webcam::Y4mReader r(in, "fuzz.y4m");
     const auto& h = r.header();
     if (h.width < 1 || h.height < 1 || !(h.fps() > 0.0)) std::abort();
     const std::size_t luma = static_cast<std::size_t>(h.width) * static_cast<std::size_t>(h.height);

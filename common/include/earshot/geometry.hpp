@@ -12,7 +12,7 @@
 //   leans towards +x), then pitch about +x (pitch > 0 looks up), then yaw
 //   about +y (yaw > 0 turns left: ahead swings towards -x).
 //
-// The tracker solves in Eigen in the camera frame (tracker/geometry.hpp)
+// The tracker solves in Eigen in the camera frame (tracker/core/geometry.hpp)
 // and converts to these types where a pose leaves it.
 #pragma once
 

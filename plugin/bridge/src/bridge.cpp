@@ -8,9 +8,9 @@
 
 #include "earshot/earshot_openal_bridge.h"
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/geometry.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 using earshot::Quat;
 using earshot::Vec3;

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 namespace fs = std::filesystem;
 

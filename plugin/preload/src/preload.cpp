@@ -56,8 +56,8 @@
 
 #include "earshot/geometry.hpp"
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 #define EARSHOT_EXPORT extern "C" __attribute__((visibility("default")))
 

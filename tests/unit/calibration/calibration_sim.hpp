@@ -9,10 +9,10 @@
 #include <random>
 #include <vector>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/led_calibration.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/calibration/led_calibration.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 
 namespace calibration_sim {
 

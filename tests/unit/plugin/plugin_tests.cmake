@@ -43,7 +43,7 @@ earshot_unit_test(plugin_tests
   SOURCES plugin/test_plugin.cpp plugin/test_tracker_state.cpp plugin/test_world_hrtf.cpp audio/alloc_counter.cpp
     plugin/test_tracker_image.cpp
     ${PROJECT_SOURCE_DIR}/plugin/src/tracker_state.cpp
-  LIBS earshot_plugin earshot::tracker earshot::webcam_sim earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
+  LIBS earshot_plugin earshot::tracker_live earshot::webcam_sim earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
   # Misuse from other threads, control and audio threads together, the live
   # tracker thread behind a world (single-threaded API tests run once).
   THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*:WorldHrtf.*Thread*:TrackerImage.*")

@@ -21,8 +21,8 @@
 #include "../audio/alloc_counter.hpp"
 #include "binaural_cues.hpp"
 #include "earshot/earshot.h"
-#include "earshot/tracker/opentrack_packet.hpp"
-#include "earshot/tracker/udp_socket.hpp"
+#include "earshot/tracker/sources/opentrack_packet.hpp"
+#include "earshot/tracker/sources/udp_socket.hpp"
 
 namespace {
 

@@ -18,10 +18,10 @@
 
 #include "../tracker/scripted_hid.hpp"
 #include "earshot/earshot.h"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/simulator.hpp"
-#include "earshot/tracker/wiimote_source.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
+#include "earshot/tracker/sources/wiimote_source.hpp"
 #include "tracker_state.hpp"
 #include "tracker_world.hpp"
 

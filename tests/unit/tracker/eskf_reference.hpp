@@ -2,7 +2,7 @@
 // must equal.
 #pragma once
 
-#include "earshot/tracker/eskf.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
 
 namespace earshot::tracker::fixtures {
 

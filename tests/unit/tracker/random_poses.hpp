@@ -4,10 +4,10 @@
 #include <cmath>
 #include <random>
 
-#include "earshot/tracker/camera.hpp"
-#include "earshot/tracker/correspondence.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/led_model.hpp"
+#include "earshot/tracker/core/camera.hpp"
+#include "earshot/tracker/core/correspondence.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/core/led_model.hpp"
 
 namespace earshot::tracker::fixtures {
 

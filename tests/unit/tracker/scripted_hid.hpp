@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/hid_transport.hpp"
+#include "earshot/tracker/sources/hid_transport.hpp"
 
 namespace earshot::tracker::testing {
 

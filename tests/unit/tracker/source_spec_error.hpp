@@ -7,7 +7,7 @@
 #include <string_view>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 namespace earshot::tracker::spec_tests {
 

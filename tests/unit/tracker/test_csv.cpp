@@ -3,9 +3,9 @@
 #include <sstream>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/led_model.hpp"
-#include "earshot/tracker/poses_csv.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/core/poses_csv.hpp"
 
 using namespace earshot::tracker;
 using earshot::PoseState;

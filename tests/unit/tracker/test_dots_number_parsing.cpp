@@ -10,7 +10,7 @@
 #include <string>
 
 #include "earshot/errors.hpp"
-#include "earshot/tracker/dots_csv.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
 
 using namespace earshot::tracker;
 

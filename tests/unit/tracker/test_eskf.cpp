@@ -5,11 +5,11 @@
 #include <random>
 #include <string>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/lm_refine.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "eskf_reference.hpp"
 
 using namespace earshot::tracker;

@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "earshot/tracker/eskf.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
 #include "eskf_reference.hpp"
 
 using namespace earshot::tracker;

@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "earshot/tracker/filters.hpp"
+#include "earshot/tracker/filter/filters.hpp"
 
 using namespace earshot::tracker;
 

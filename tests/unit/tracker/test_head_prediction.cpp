@@ -12,8 +12,8 @@
 #include <utility>
 
 #include "earshot/head_pose.hpp"
-#include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 
 using namespace earshot::tracker;
 using earshot::HeadPose;

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <random>
 
-#include "earshot/tracker/labeller.hpp"
+#include "earshot/tracker/track/labeller.hpp"
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;

@@ -9,8 +9,9 @@
 #include <numbers>
 #include <optional>
 
-#include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/sim_source.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/tracker/sources/wiimote_source.hpp"
+#include "earshot/tracker/sources/sim_source.hpp"
 
 using namespace earshot::tracker;
 using earshot::HeadPose;

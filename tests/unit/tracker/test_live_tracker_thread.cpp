@@ -9,8 +9,8 @@
 #include <thread>
 #include <vector>
 
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/sim_source.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/sources/sim_source.hpp"
 
 using namespace earshot::tracker;
 using earshot::HeadPose;

@@ -2,8 +2,8 @@
 
 #include <random>
 
-#include "earshot/tracker/lm_refine.hpp"
-#include "earshot/tracker/lm_solver.hpp"
+#include "earshot/tracker/solve/lm_refine.hpp"
+#include "earshot/tracker/solve/lm_solver.hpp"
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;

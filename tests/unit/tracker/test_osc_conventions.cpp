@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/osc_pose.hpp"
-#include "earshot/tracker/udp_pose_source.hpp"
+#include "earshot/tracker/sources/osc_pose.hpp"
+#include "earshot/tracker/sources/udp_pose_source.hpp"
 
 extern char** environ;
 

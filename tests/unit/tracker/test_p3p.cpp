@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "earshot/tracker/p3p.hpp"
+#include "earshot/tracker/solve/p3p.hpp"
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;

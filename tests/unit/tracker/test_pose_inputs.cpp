@@ -7,13 +7,15 @@
 #include <numbers>
 #include <sstream>
 
-#include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/opentrack_packet.hpp"
-#include "earshot/tracker/osc_pose.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/tracker/sources/opentrack_packet.hpp"
+#include "earshot/tracker/sources/osc_pose.hpp"
 #include "earshot/errors.hpp"
-#include "earshot/tracker/pose_track_csv.hpp"
+#include "earshot/pose_track_csv.hpp"
 
 using namespace earshot::tracker;
+using earshot::PoseTrackCsvWriter;
+using earshot::read_pose_track_csv;
 
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;

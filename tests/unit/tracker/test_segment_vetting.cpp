@@ -7,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "earshot/tracker/eskf.hpp"
-#include "earshot/tracker/motion_reach.hpp"
-#include "earshot/tracker/segment_vetting.hpp"
+#include "earshot/tracker/filter/eskf.hpp"
+#include "earshot/tracker/filter/motion_reach.hpp"
+#include "earshot/tracker/filter/segment_vetting.hpp"
 
 using namespace earshot::tracker;
 

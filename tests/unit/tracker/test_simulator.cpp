@@ -6,9 +6,9 @@
 #include <string>
 #include <variant>
 
-#include "earshot/tracker/live_pipeline.hpp"
-#include "earshot/tracker/sim_source.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/tracker/sources/sim_source.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 
 using namespace earshot::tracker;
 

@@ -1,6 +1,6 @@
 // Source specs: every spelling the tools accept, and for each way a spec can
 // be wrong, an error that names where it came from and the spec itself.
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 
 #include "earshot/errors.hpp"
 #include "source_spec_error.hpp"
-#include "earshot/tracker/udp_pose_source.hpp"
+#include "earshot/tracker/sources/udp_pose_source.hpp"
 
 namespace earshot::tracker {
 namespace {

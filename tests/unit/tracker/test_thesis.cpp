@@ -2,7 +2,7 @@
 
 #include <random>
 
-#include "earshot/tracker/thesis_solver.hpp"
+#include "earshot/tracker/solve/thesis_solver.hpp"
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;

@@ -4,10 +4,10 @@
 #include <functional>
 #include <random>
 
-#include "earshot/tracker/accuracy.hpp"
-#include "earshot/tracker/dot_evidence.hpp"
-#include "earshot/tracker/dot_tracker.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/track/accuracy.hpp"
+#include "earshot/tracker/track/dot_evidence.hpp"
+#include "earshot/tracker/track/dot_tracker.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "random_poses.hpp"
 
 using namespace earshot::tracker;

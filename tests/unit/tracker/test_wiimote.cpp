@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "earshot/tracker/wiimote_protocol.hpp"
+#include "earshot/tracker/sources/wiimote_protocol.hpp"
 
 using namespace earshot::tracker::wiimote;
 

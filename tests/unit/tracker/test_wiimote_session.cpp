@@ -9,7 +9,7 @@
 
 #include <algorithm>
 
-#include "earshot/tracker/wiimote_source.hpp"
+#include "earshot/tracker/sources/wiimote_source.hpp"
 #include "scripted_hid.hpp"
 
 using namespace earshot::tracker;

@@ -1,6 +1,6 @@
 // Camera calibration files (OpenCV's YAML) and undistortion, against
 // OpenCV's own cv::undistortPoints and cv::projectPoints.
-#include "earshot/tracker/camera_calibration.hpp"
+#include "earshot/webcam/camera_calibration.hpp"
 
 #include <gtest/gtest.h>
 
@@ -14,6 +14,7 @@
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 std::string matrix_yaml(const char* name, int rows, int cols, const std::string& data) {
   return std::string(name) + ": !!opencv-matrix\n   rows: " + std::to_string(rows) + "\n   cols: " + std::to_string(cols) +

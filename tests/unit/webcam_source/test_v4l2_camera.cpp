@@ -1,6 +1,6 @@
 // V4L2 capture without a camera: every error a person can meet names the
 // device and says what to do; the mode choice; the device list.
-#include "earshot/tracker/v4l2_camera.hpp"
+#include "earshot/webcam/v4l2_camera.hpp"
 
 #include <gtest/gtest.h>
 #include <linux/videodev2.h>
@@ -13,6 +13,7 @@
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 using Kind = CameraError::Kind;
 

@@ -17,13 +17,15 @@
 #include <unistd.h>
 
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live_tracker.hpp"
-#include "earshot/tracker/source_spec.hpp"
-#include "earshot/tracker/y4m_reader.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/webcam/y4m_reader.hpp"
+#include "earshot/webcam/y4m_writer.hpp"
 #include "earshot/webcam/video_sim.hpp"
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 constexpr int kFrames = 120;
 constexpr int kBlankFrom = 60, kBlankTo = 80;  // the beacon is covered for [60, 80)

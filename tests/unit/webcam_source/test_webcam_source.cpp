@@ -1,7 +1,8 @@
 // The webcam source from a Y4M file with a scripted detector: frames, times,
 // notes, the camera model (guessed, focal=, calib=), undistortion, labels,
 // sizes, the thumbnail, describe(); a camera that is not there.
-#include "earshot/tracker/webcam_source.hpp"
+#include "earshot/webcam/webcam_source.hpp"
+#include "earshot/webcam/y4m_writer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +14,11 @@
 
 #include "earshot/errors.hpp"
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live_tracker.hpp"
+#include "earshot/tracker/live/live_tracker.hpp"
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 /// Returns scripted detections in order (none when the script runs out) and
 /// remembers the views it was given.
@@ -76,8 +78,8 @@ WebcamSpec file_spec(const std::filesystem::path& p) {
   return s;
 }
 
-SourceOptions fast() {
-  SourceOptions o;
+WebcamOptions fast() {
+  WebcamOptions o;
   o.pacing = Pacing::as_fast_as_possible;
   return o;
 }
@@ -280,8 +282,8 @@ TEST(WebcamSource, NoCameraThrowsOrKeepsSearching) {
   } catch (const CameraError& e) {
     EXPECT_EQ(e.kind(), CameraError::Kind::no_device);
   }
-  SourceOptions wait;
-  wait.wait_for_remote = true;
+  WebcamOptions wait;
+  wait.wait_for_device = true;
   WebcamSource src(spec, std::make_unique<ScriptedDetector>(std::deque<webcam::Detection>{}), wait);
   EXPECT_EQ(src.describe(), "webcam:/dev/video97 (not connected, scripted)");
   EXPECT_FALSE(src.camera());

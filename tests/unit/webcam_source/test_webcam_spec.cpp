@@ -6,10 +6,11 @@
 
 #include "earshot/errors.hpp"
 #include "../tracker/source_spec_error.hpp"
-#include "earshot/tracker/source_spec.hpp"
+#include "earshot/tracker/live/source_spec.hpp"
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 using Beacon = WebcamSpec::Beacon;
 

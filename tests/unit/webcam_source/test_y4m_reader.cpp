@@ -1,6 +1,7 @@
 // The Y4M reader: every colour space's luma, frame parameters, and errors
 // naming the file, the frame and the field; the writer's output read back.
-#include "earshot/tracker/y4m_reader.hpp"
+#include "earshot/webcam/y4m_reader.hpp"
+#include "earshot/webcam/y4m_writer.hpp"
 
 #include <gtest/gtest.h>
 
@@ -16,6 +17,7 @@
 
 namespace earshot::tracker {
 namespace {
+using namespace earshot::webcam;  // the webcam module: sources, capture, files, lens
 
 std::string frame_bytes(int w, int h, std::size_t chroma, std::uint8_t base) {
   std::string s(static_cast<std::size_t>(w * h), '\0');

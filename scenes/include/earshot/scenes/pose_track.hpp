@@ -1,4 +1,4 @@
-// A listener pose track: a Pose track CSV (tracker/pose_track_csv.hpp, the
+// A listener pose track: a Pose track CSV (common/pose_track_csv.hpp, the
 // file format and its reader) interpolated in time: position linearly,
 // orientation by slerp; held before the first row and after the last.
 #pragma once
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "earshot/audio/renderer.hpp"
-#include "earshot/tracker/pose_track_csv.hpp"
+#include "earshot/pose_track_csv.hpp"
 
 namespace earshot::scenes {
 
@@ -23,8 +23,8 @@ class PoseTrack {
   [[nodiscard]] std::size_t size() const { return rows_.size(); }
 
  private:
-  explicit PoseTrack(std::vector<tracker::PoseTrackRow> rows) : rows_(std::move(rows)) {}
-  std::vector<tracker::PoseTrackRow> rows_;  // at least one, times increasing
+  explicit PoseTrack(std::vector<PoseTrackRow> rows) : rows_(std::move(rows)) {}
+  std::vector<PoseTrackRow> rows_;  // at least one, times increasing
 };
 
 }  // namespace earshot::scenes

@@ -35,10 +35,10 @@
 #include <string>
 #include <vector>
 
-#include "earshot/tracker/camera.hpp"
-#include "earshot/tracker/dots_csv.hpp"
-#include "earshot/tracker/led_model.hpp"
-#include "earshot/tracker/simulator.hpp"
+#include "earshot/tracker/core/camera.hpp"
+#include "earshot/tracker/core/dots_csv.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/sim/simulator.hpp"
 #include "earshot/webcam/dot_detector.hpp"
 #include "earshot/webcam/tag_pattern.hpp"
 

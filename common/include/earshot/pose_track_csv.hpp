@@ -1,0 +1,47 @@
+// Pose track CSV (contract): the listener in the audio world frame over
+// time, written by `earshot track live --record`, read by `earshot render
+// --pose-track` (scenes::PoseTrack interpolates it):
+//   t_s,x_m,y_m,z_m,qw,qx,qy,qz
+// metres and a unit quaternion (w, x, y, z) in the frame of
+// earshot/geometry.hpp; times strictly increase. Not to be confused with
+// the Poses CSV (poses_csv.hpp): the beacon in the camera frame.
+#pragma once
+
+#include <filesystem>
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+#include "earshot/geometry.hpp"
+#include "earshot/head_pose.hpp"
+
+namespace earshot {
+
+struct PoseTrackRow {
+  double t = 0.0;                      ///< seconds
+  earshot::Vec3 position{0, 0, 0};     ///< metres
+  earshot::Quat orientation = kIdentityQuat;  ///< unit length
+};
+
+/// Reads a whole Pose track: at least one row; orientations normalised
+/// (within 1e-3 of unit length on file). Throws earshot::InputError naming
+/// origin, line and field.
+[[nodiscard]] std::vector<PoseTrackRow> read_pose_track_csv(std::istream& in, const std::string& origin);
+[[nodiscard]] std::vector<PoseTrackRow> load_pose_track_csv(const std::filesystem::path& path);
+
+/// Writes published head poses as a Pose track. The reader wants strictly
+/// increasing times, so a pose whose time does not advance is skipped; a
+/// non-finite one is never written.
+class PoseTrackCsvWriter {
+ public:
+  explicit PoseTrackCsvWriter(std::ostream& out);
+  /// False when the row was skipped (time not after the last row, or not finite).
+  bool write(const HeadPose& p);
+
+ private:
+  std::ostream& out_;
+  double last_t_ = 0.0;
+  bool any_ = false;
+};
+
+}  // namespace earshot

@@ -17,7 +17,10 @@ struct HeadFrame {
   double distance = 0.0;
 };
 
-HeadFrame head_frame(const Vec3& point, const ListenerState& l) {
+/// The frame of a head-relative source: the listener at the origin, unturned.
+constexpr HeadPose kAtOrigin{};
+
+HeadFrame head_frame(const Vec3& point, const HeadPose& l) {
   const Vec3 d{point[0] - l.position[0], point[1] - l.position[1], point[2] - l.position[2]};
   const Vec3 h = rotate_inverse(l.orientation, d);
   // Head frame (OpenAL): +x right, +y up, -z ahead. SOFA: x ahead, y left, z up.
@@ -30,7 +33,7 @@ HeadFrame head_frame(const Vec3& point, const ListenerState& l) {
 
 }  // namespace
 
-HeadRelative head_relative(const Vec3& point, const ListenerState& l) {
+HeadRelative head_relative(const Vec3& point, const HeadPose& l) {
   const HeadFrame f = head_frame(point, l);
   HeadRelative r;
   r.distance = f.distance;
@@ -188,7 +191,8 @@ std::span<float> Renderer::source_input(int i) {
 
 void Renderer::render(std::span<float> left, std::span<float> right) {
   const std::size_t B = cfg_.block;
-  const ListenerState listener = listener_;  // the pose, read once per block
+  const HeadPose listener = listener_;  // the pose, read once per block
+  const double listener_gain = listener_gain_;
   std::copy(ret_l_.begin(), ret_l_.end(), mix_l_.begin());
   std::copy(ret_r_.begin(), ret_r_.end(), mix_r_.begin());
   std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
@@ -210,8 +214,8 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
       if (next.panned)
         for (const std::uint32_t m : next.pans[1].index[0]) bank_->prefetch(m);
     }
-    ListenerState frame = listener;
-    if (v.state.relative) frame = ListenerState{};  // position is already head-relative
+    // A relative source's position is already head-relative.
+    const HeadPose& frame = v.state.relative ? kAtOrigin : listener;
     HeadFrame hr = head_frame(v.state.position, frame);
     if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
     // Nearer than the farthest shell: the shell nearest the source, and
@@ -278,7 +282,7 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
     const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
     const double attenuated =
         v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
-    const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener.gain;
+    const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener_gain;
     const double g0 = v.gain < 0.0 ? g : v.gain;
     v.gain = g;
 

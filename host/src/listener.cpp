@@ -4,15 +4,15 @@
 
 namespace earshot::host {
 
-audio::ListenerState fixed_listener(const scenes::SceneListener& l) {
+HeadPose fixed_listener(const scenes::SceneListener& l) {
   constexpr double kDeg = std::numbers::pi / 180.0;
-  audio::ListenerState s;
+  HeadPose s;
   s.position = l.position;
   s.orientation = quat_from_ypr(l.yaw_deg * kDeg, l.pitch_deg * kDeg, l.roll_deg * kDeg);
   return s;
 }
 
-void set_listener(const WorldHandle& world, const audio::ListenerState& l, std::string_view origin, double t) {
+void set_listener(const WorldHandle& world, const HeadPose& l, std::string_view origin, double t) {
   const float pos[3] = {float(l.position[0]), float(l.position[1]), float(l.position[2])};
   const float quat[4] = {float(l.orientation[0]), float(l.orientation[1]), float(l.orientation[2]),
                          float(l.orientation[3])};

@@ -51,7 +51,7 @@ void BinauralPanner::update(const PannerParams& p) {
   s.reverb_send = p.room > 0 && p.reverb_send_db > kReverbOffDb ? std::pow(10.0, p.reverb_send_db / 20.0) : 0.0;
   renderer_.set_source(source_, s);
 
-  audio::ListenerState l;
+  HeadPose l;
   l.orientation = normalised(p.head_orientation).value_or(Quat{1, 0, 0, 0});
   l.position = p.head_position;
   renderer_.set_listener(l);

@@ -403,7 +403,7 @@ ES_API ESenum esListenerfv(ESworld h, ESenum param, const ESfloat* v) {
     switch (param) {
       case ES_POSITION: s.listener.position = position3(v, "esListenerfv: ES_POSITION"); break;
       case ES_VELOCITY: s.listener_velocity = position3(v, "esListenerfv: ES_VELOCITY"); break;
-      case ES_GAIN: check_range("esListenerfv: ES_GAIN", v[0], 0.0, 1e3); s.listener.gain = v[0]; break;
+      case ES_GAIN: check_range("esListenerfv: ES_GAIN", v[0], 0.0, 1e3); s.listener_gain = v[0]; break;
       case ES_ORIENTATION: {
         const double f[6] = {v[0], v[1], v[2], v[3], v[4], v[5]};
         if (!finite({f[0], f[1], f[2], f[3], f[4], f[5]}))
@@ -446,7 +446,7 @@ ES_API ESenum esGetListenerfv(ESworld h, ESenum param, ESfloat* v) {
     switch (param) {
       case ES_POSITION: put({p[0], p[1], p[2]}); return ES_OK;
       case ES_VELOCITY: put({s.listener_velocity[0], s.listener_velocity[1], s.listener_velocity[2]}); return ES_OK;
-      case ES_GAIN: put({s.listener.gain}); return ES_OK;
+      case ES_GAIN: put({s.listener_gain}); return ES_OK;
       case ES_ORIENTATION_QUAT: put({q[0], q[1], q[2], q[3]}); return ES_OK;
       case ES_ORIENTATION: {
         // at = R (0, 0, -1), up = R (0, 1, 0)

@@ -339,12 +339,12 @@ void World::render(float* left, float* right) {
     head.orientation = heard.orientation;
   }
   adopt_new_renderer();
-  audio::ListenerState l = s.listener;
+  HeadPose l = s.listener;
   const Vec3 offset = rotate(l.orientation, head.position);
   for (int i = 0; i < 3; ++i) l.position[i] += offset[i];
   l.orientation = multiply(l.orientation, head.orientation);
-  renderer_->set_listener(l);
-  if (fading_) fading_->set_listener(l);
+  renderer_->set_listener(l, s.listener_gain);
+  if (fading_) fading_->set_listener(l, s.listener_gain);
   head.state = PoseState::tracking;
   head.t = static_cast<double>(blocks_.load(std::memory_order_relaxed)) * static_cast<double>(params_.block_size) /
            static_cast<double>(params_.sample_rate);

@@ -69,7 +69,8 @@ struct SourceParams {
 };
 
 struct Snapshot {
-  audio::ListenerState listener{};
+  HeadPose listener{};  ///< position and orientation (the rest unused)
+  double listener_gain = 1.0;
   Vec3 listener_velocity{0, 0, 0};
   Vec3 head_position{0, 0, 0};       ///< esSetHeadPose (no tracker)
   Quat head_orientation{1, 0, 0, 0};

@@ -70,7 +70,7 @@ Stereo render_earshot(std::size_t blocks, bool turning, const std::shared_ptr<co
   const std::vector<float> tone = tone_second();
   Stereo out{std::vector<float>(blocks * kBlock), std::vector<float>(blocks * kBlock)};
   for (std::size_t b = 0; b < blocks; ++b) {
-    earshot::audio::ListenerState l;
+    earshot::HeadPose l;
     l.orientation = earshot::quat_from_ypr(yaw_at_block(b, turning), 0, 0);
     r.set_listener(l);
     std::span<float> in = r.source_input(id);

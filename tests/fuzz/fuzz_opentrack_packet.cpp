@@ -16,8 +16,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   if (m) {
     if (!m->pose) std::abort();
     const auto& p = *m->pose;
-    if (!p.position_m.allFinite() || p.position_m.norm() > 2.0 * t::kMaxPositionM) std::abort();
-    if (!p.orientation.coeffs().allFinite() || std::abs(p.orientation.norm() - 1.0) > 1e-9) std::abort();
+    if (!t::to_eigen(p.position).allFinite() || t::to_eigen(p.position).norm() > 2.0 * t::kMaxPositionM) std::abort();
+    if (!t::to_eigen(p.orientation).coeffs().allFinite() || std::abs(t::to_eigen(p.orientation).norm() - 1.0) > 1e-9) std::abort();
   }
   return 0;
 }

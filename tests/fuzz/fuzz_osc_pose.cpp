@@ -18,8 +18,8 @@ void check(const std::optional<earshot::tracker::PoseMessage>& m, const std::str
   if (!m && why.empty()) std::abort();
   if (m && m->pose) {
     const auto& p = *m->pose;
-    if (!p.position_m.allFinite() || p.position_m.norm() > t::kMaxPositionM) std::abort();
-    if (!p.orientation.coeffs().allFinite() || std::abs(p.orientation.norm() - 1.0) > 1e-9) std::abort();
+    if (!t::to_eigen(p.position).allFinite() || t::to_eigen(p.position).norm() > t::kMaxPositionM) std::abort();
+    if (!t::to_eigen(p.orientation).coeffs().allFinite() || std::abs(t::to_eigen(p.orientation).norm() - 1.0) > 1e-9) std::abort();
   }
   if (m && !m->pose && !m->recenter) std::abort();  // a message that asks for nothing is not ours
 }

@@ -32,9 +32,14 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using std::chrono::milliseconds;
 
-/// Yaw of the head in degrees (the plugin hands the orientation as floats).
-double yaw_deg(const float q[4]) {
-  return ypr_from_quat({q[0], q[1], q[2], q[3]}).yaw * 180.0 / std::numbers::pi;
+/// The head as the world's last block heard it (the C API hands it as floats).
+HeadPose heard_head(ESworld world) {
+  float p[3]{}, q[4]{1, 0, 0, 0};
+  esGetHeadPose(world, p, q);
+  HeadPose h;
+  h.position = {p[0], p[1], p[2]};
+  h.orientation = {q[0], q[1], q[2], q[3]};
+  return h;
 }
 
 /// The terminal in raw, non-blocking mode while it lives (keys without Enter).
@@ -147,9 +152,8 @@ void control_loop(const LiveOptions& o, LiveSession& session, const OutputStats&
     if (stop.requested()) break;
     if (!handle_key(term.key(), session, t)) break;
     session.sources().move(t);
-    HeadPose head;
-    esGetHeadPose(session.world(), head.position, head.orientation);
-    const double yaw = yaw_deg(head.orientation);
+    const HeadPose head = heard_head(session.world());
+    const double yaw = ypr_from_quat(head.orientation).yaw * 180.0 / std::numbers::pi;
     poses.add(t, yaw);
     const auto now = Clock::now();
     if (now - last_tracker >= milliseconds(100)) {

@@ -90,9 +90,10 @@ void WindowView::Impl::describe(const LiveSession& session) {
 /// dots, the tracker's state, a new camera picture): frames of an unchanged
 /// view are not drawn.
 bool WindowView::Impl::view_changed(const HeadPose& head, const EStrackerstate& ts, const EStrackerimage& im) {
-  const float* p = head.position;
-  const float* q = head.orientation;
-  std::vector<float> now{p[0], p[1], p[2], q[0], q[1], q[2], q[3], float(ts.state), float(ts.dot_count),
+  const auto& p = head.position;
+  const auto& q = head.orientation;
+  std::vector<float> now{float(p[0]), float(p[1]), float(p[2]), float(q[0]), float(q[1]), float(q[2]), float(q[3]),
+                         float(ts.state), float(ts.dot_count),
                          float(im.available), float(im.frame % 4096)};
   for (const auto& s : model.sources) now.insert(now.end(), s.position.begin(), s.position.end());
   for (ESuint i = 0; i < ts.dot_count && i < ES_TRACKER_MAX_DOTS; ++i) {
@@ -111,10 +112,10 @@ void WindowView::Impl::fill(const LiveSession& session, const OutputStats& stats
   model.xruns = stats.xruns.load(), model.blocks = stats.blocks.load();
   model.message = session.message();
   const auto& L = session.scene().listener.position;
-  const float* p = head.position;
-  model.head_position = {p[0] + float(L[0]), p[1] + float(L[1]), p[2] + float(L[2])};
-  const float* q = head.orientation;
-  model.head_orientation = {q[0], q[1], q[2], q[3]};
+  const auto& p = head.position;
+  model.head_position = {float(p[0]) + float(L[0]), float(p[1]) + float(L[1]), float(p[2]) + float(L[2])};
+  const auto& q = head.orientation;
+  model.head_orientation = {float(q[0]), float(q[1]), float(q[2]), float(q[3])};
   model.tracker_state = tracker.state, model.tracker_message = tracker.message;
   model.tracker_alarm = tracker.alarm, model.tracker_rate = tracker.raw.rate_hz;
   model.tracker_frames = tracker.raw.frames;

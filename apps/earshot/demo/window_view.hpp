@@ -10,16 +10,11 @@
 #include <vector>
 
 #include "audio_output.hpp"
+#include "earshot/head_pose.hpp"
 #include "live_demo.hpp"
 #include "live_session.hpp"
 
 namespace earshot::demo {
-
-/// The head as the last block heard it (esGetHeadPose).
-struct HeadPose {
-  float position[3]{};
-  float orientation[4]{1, 0, 0, 0};  ///< w, x, y, z
-};
 
 class WindowView {
  public:
@@ -34,6 +29,7 @@ class WindowView {
   /// Draws a frame when one is due (at most 30 a second, fewer in software
   /// OpenGL; 4 a second when nothing moved) and applies the person's
   /// actions to `session`. False: the person closed the window or quit.
+  /// `head`: the head as the last block heard it (esGetHeadPose).
   bool tick(LiveSession& session, const OutputStats& stats, const HeadPose& head, double t);
   /// At the end: frames drawn, the screenshot asked for.
   void finish(const LiveOptions& o);

@@ -1,10 +1,12 @@
 // Pose track CSV (contract): the listener in the audio world frame over
 // time, written by `earshot track live --record`, read by `earshot render
 // --pose-track` (scenes::PoseTrack interpolates it):
-//   t_s,x_m,y_m,z_m,qw,qx,qy,qz
+//   t_s,x_m,y_m,z_m,qw,qx,qy,qz[,state]
 // metres and a unit quaternion (w, x, y, z) in the frame of
-// earshot/geometry.hpp; times strictly increase. Not to be confused with
-// the Poses CSV (poses_csv.hpp): the beacon in the camera frame.
+// earshot/geometry.hpp; times strictly increase; `state` (a recording's
+// tracker state: searching, tracking, predicted, lost) is optional. Each row
+// is a HeadPose. Not to be confused with the Poses CSV
+// (tracker/core/poses_csv.hpp): the beacon in the camera frame.
 #pragma once
 
 #include <filesystem>
@@ -17,17 +19,11 @@
 
 namespace earshot {
 
-struct PoseTrackRow {
-  double t = 0.0;                      ///< seconds
-  earshot::Vec3 position{0, 0, 0};     ///< metres
-  earshot::Quat orientation = kIdentityQuat;  ///< unit length
-};
-
 /// Reads a whole Pose track: at least one row; orientations normalised
-/// (within 1e-3 of unit length on file). Throws earshot::InputError naming
-/// origin, line and field.
-[[nodiscard]] std::vector<PoseTrackRow> read_pose_track_csv(std::istream& in, const std::string& origin);
-[[nodiscard]] std::vector<PoseTrackRow> load_pose_track_csv(const std::filesystem::path& path);
+/// (within 1e-3 of unit length on file); `state` from its column, else
+/// tracking. Throws earshot::InputError naming origin, line and field.
+[[nodiscard]] std::vector<HeadPose> read_pose_track_csv(std::istream& in, const std::string& origin);
+[[nodiscard]] std::vector<HeadPose> load_pose_track_csv(const std::filesystem::path& path);
 
 /// Writes published head poses as a Pose track. The reader wants strictly
 /// increasing times, so a pose whose time does not advance is skipped; a

@@ -10,6 +10,7 @@
 #include "earshot/audio/renderer.hpp"
 
 using namespace earshot::audio;
+using earshot::HeadPose;
 using earshot::quat_from_ypr;
 
 namespace {
@@ -26,7 +27,7 @@ struct Stereo {
 };
 
 /// Renders `blocks` blocks of white noise from one source.
-Stereo render_noise(const SourceState& src, const ListenerState& listener, int blocks = 200, unsigned seed = 1,
+Stereo render_noise(const SourceState& src, const HeadPose& listener, int blocks = 200, unsigned seed = 1,
                     RendererConfig cfg = {}) {
   Renderer r(kemar(), cfg);
   const int id = r.add_source(src);
@@ -68,7 +69,7 @@ double itd_us(const Stereo& s, std::size_t from) {
 }  // namespace
 
 TEST(HeadRelative, AppliesYawPitchAndRoll) {
-  ListenerState l;
+  HeadPose l;
   EXPECT_NEAR(head_relative({-1, 0, 0}, l).azimuth, 90 * kDeg, 1e-12);  // OpenAL -x = SOFA left
   l.orientation = quat_from_ypr(90 * kDeg, 0, 0);  // head turned left, towards it
   EXPECT_NEAR(head_relative({-1, 0, 0}, l).azimuth, 0.0, 1e-12);
@@ -78,7 +79,7 @@ TEST(HeadRelative, AppliesYawPitchAndRoll) {
   EXPECT_NEAR(up.elevation, 0.0, 1e-9);
   l.orientation = quat_from_ypr(0, 0, 90 * kDeg);  // tilted onto the right shoulder
   EXPECT_NEAR(head_relative({1, 0, 0}, l).elevation, 90 * kDeg, 1e-9);
-  l = ListenerState{};
+  l = HeadPose{};
   l.position = {0, 0, 2};
   EXPECT_NEAR(head_relative({0, 0, -1}, l).distance, 3.0, 1e-12);
 }
@@ -90,7 +91,7 @@ TEST(Renderer, ASourceOnTheLeftIsHeardOnTheLeftAndAheadOnceFaced) {
   EXPECT_GT(rms_db(side.l, 4800) - rms_db(side.r, 4800), 6.0);
   EXPECT_GT(itd_us(side, 4800), 500.0);  // left ear leads by over half a millisecond
 
-  ListenerState turned;
+  HeadPose turned;
   turned.orientation = quat_from_ypr(90 * kDeg, 0, 0);
   const Stereo ahead = render_noise(src, turned);
   EXPECT_LT(std::abs(rms_db(ahead.l, 4800) - rms_db(ahead.r, 4800)), 1.0);
@@ -100,7 +101,7 @@ TEST(Renderer, ASourceOnTheLeftIsHeardOnTheLeftAndAheadOnceFaced) {
 TEST(Renderer, ListenerTranslationChangesGainByTheDistanceModel) {
   SourceState src;
   src.position = {0, 0, -1};
-  ListenerState near_l, far_l;
+  HeadPose near_l, far_l;
   far_l.position = {0, 0, 1};  // two metres from the source
   // No propagation delay here, so both renders hold the same noise samples;
   // no near field (KEMAR is measured at 1.4 m: the 1 m source would get the
@@ -160,7 +161,7 @@ TEST(Renderer, RenderTakesNoHeapAllocationNorLockWithManyMovingSources) {
       r.set_source(ids[static_cast<std::size_t>(i)], s);
       for (float& x : r.source_input(ids[static_cast<std::size_t>(i)])) x = 0.01f * float(i);
     }
-    ListenerState L;
+    HeadPose L;
     L.orientation = quat_from_ypr(0.02 * b, 0, 0);
     r.set_listener(L);
   };
@@ -202,7 +203,7 @@ namespace {
 struct Cues {
   double ild_db, itd_us;
 };
-Cues cues_of(const SourceState& src, const ListenerState& listener) {
+Cues cues_of(const SourceState& src, const HeadPose& listener) {
   const Stereo s = render_noise(src, listener, 150);
   const std::span<const float> l(s.l), r(s.r);
   return {earshot::analysis::ild_db(l.subspan(4800), r.subspan(4800)),
@@ -213,7 +214,7 @@ Cues cues_of(const SourceState& src, const ListenerState& listener) {
 
 TEST(Renderer, HeadTrackingAppliesYawPitchAndRollToTheCues) {
   SourceState src;
-  ListenerState l;
+  HeadPose l;
   // Yaw: a source on the left, the head turned +90 deg (left) towards it.
   src.position = {-1, 0, 0};
   const Cues side = cues_of(src, l);
@@ -251,7 +252,7 @@ TEST(Renderer, ListenerTranslationMovesTheSourceAcrossTheHead) {
   // Stepping 2 m to the right of a source 1 m ahead puts it front-left.
   SourceState src;
   src.position = {0, 0, -1};
-  ListenerState l;
+  HeadPose l;
   l.position = {2, 0, 0};
   const Cues c = cues_of(src, l);
   EXPECT_GT(c.ild_db, 3.0);
@@ -271,7 +272,7 @@ TEST(Renderer, AFastHeadTurnDoesNotClick) {
   const double rate = 48000.0;
   std::size_t n = 0;
   for (int b = 0; b < 5 * 48000 / 128; ++b) {
-    ListenerState L;
+    HeadPose L;
     L.orientation = quat_from_ypr(2 * std::numbers::pi * double(n) / rate, 0, 0);
     r.set_listener(L);
     for (float& x : r.source_input(id)) x = 0.1f * float(std::sin(2 * std::numbers::pi * 500.0 * double(n++) / rate));

@@ -136,7 +136,7 @@ TEST(Presets, TeleconferenceTalkersSitAtTheirOwnAzimuths) {
   const Scene s = preset("teleconference");
   ASSERT_GE(s.sources.size(), 4u);
   std::vector<double> itd, pitch;
-  const earshot::audio::ListenerState listener;
+  const earshot::HeadPose listener;
   double last_az = 1e9;
   for (const auto& src : s.sources) {
     const double az = earshot::audio::head_relative(src.position, listener).azimuth;
@@ -185,7 +185,7 @@ TEST(Presets, TrafficCarPitchFallsAsItPasses) {
 
 TEST(Presets, ZooHasSomethingAboveAndSomethingMoving) {
   const Scene s = preset("zoo");
-  const earshot::audio::ListenerState listener;
+  const earshot::HeadPose listener;
   // Above: some source stays more than 30 degrees up all the time.
   bool above = false, moves = false;
   for (const auto& src : s.sources) {

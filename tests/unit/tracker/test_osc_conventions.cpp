@@ -21,6 +21,7 @@
 extern char** environ;
 
 using namespace earshot::tracker;
+using earshot::HeadPose;
 
 namespace {
 
@@ -35,12 +36,19 @@ Vec3 from_saf(const Vec3& v) { return {-v.y(), v.z(), -v.x()}; }
 
 Bytes floats(const std::string& path, std::vector<float> args) { return encode_osc_float(path, args); }
 
+/// A decoded head pose in the tracker's Eigen types, for the checks below.
+struct Seen {
+  Vec3 position_m = Vec3::Zero();
+  Quat orientation = Quat::Identity();
+};
+Seen seen(const HeadPose& p) { return {to_eigen(p.position), to_eigen(p.orientation)}; }
+
 /// The pose a datagram gives; fails the test when it gives none.
-DirectPose pose_of(OscPoseDecoder& d, const Bytes& b) {
+Seen pose_of(OscPoseDecoder& d, const Bytes& b) {
   std::string why;
   const auto m = d.decode(b, &why);
   EXPECT_TRUE(m && m->pose) << why;
-  return m && m->pose ? *m->pose : DirectPose{};
+  return m && m->pose ? seen(*m->pose) : Seen{};
 }
 
 std::string reason_of(OscPoseDecoder& d, const Bytes& b) {
@@ -127,7 +135,7 @@ TEST(OscSparta, QuaternionIsWxyzAndAgreesWithYpr) {
 TEST(OscSparta, XyzIsAPositionInSafAxesAndOrientationIsKept) {
   OscPoseDecoder d;
   (void)pose_of(d, floats("/ypr", {90, 0, 0}));
-  DirectPose p = pose_of(d, floats("/xyz", {1.0f, 0.5f, 0.25f}));  // 1 m ahead, 0.5 m left, 0.25 m up
+  Seen p = pose_of(d, floats("/xyz", {1.0f, 0.5f, 0.25f}));  // 1 m ahead, 0.5 m left, 0.25 m up
   EXPECT_TRUE(p.position_m.isApprox(Vec3(-0.5, 0.25, -1.0), 1e-6)) << p.position_m.transpose();
   EXPECT_TRUE(ahead(p.orientation).isApprox(Vec3(-1, 0, 0), 1e-6));
   p = pose_of(d, floats("/yaw", {0}));  // the position stays
@@ -212,7 +220,7 @@ TEST(OscEarshot, OwnAddressesAreUnchangedAndStateless) {
   (void)pose_of(d, floats("/ypr", {45, 0, 0}));
   const Quat q = pose_of(d, floats("/earshot/ypr", {90, 0, 0})).orientation;
   EXPECT_TRUE(ahead(q).isApprox(Vec3(-1, 0, 0), 1e-6));
-  const DirectPose p = pose_of(d, floats("/earshot/pose/ypr", {0.1f, 0.2f, -0.3f, 0, 0, 0}));
+  const Seen p = pose_of(d, floats("/earshot/pose/ypr", {0.1f, 0.2f, -0.3f, 0, 0, 0}));
   EXPECT_TRUE(p.position_m.isApprox(Vec3(0.1, 0.2, -0.3), 1e-6));
 }
 
@@ -226,7 +234,7 @@ TEST(OscBundle, TheLastPoseWinsAndARecenterAnywhereCounts) {
   const auto m = d.decode(encode_osc_bundle(elements), &why);
   ASSERT_TRUE(m && m->pose) << why;
   EXPECT_TRUE(m->recenter);
-  EXPECT_TRUE(ahead(m->pose->orientation).isApprox(Vec3(-std::sin(20 * kDeg), 0, -std::cos(20 * kDeg)), 1e-6));
+  EXPECT_TRUE(ahead(to_eigen(m->pose->orientation)).isApprox(Vec3(-std::sin(20 * kDeg), 0, -std::cos(20 * kDeg)), 1e-6));
   // A recenter alone in a bundle is a recenter.
   const auto r = d.decode(encode_osc_bundle(std::vector<Bytes>{encode_osc("/earshot/recenter", {})}), &why);
   ASSERT_TRUE(r) << why;
@@ -306,7 +314,7 @@ TEST(OscBundle, TheSourceDeliversThePoseThenTheRecenter) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   while (seen.size() < 2 && std::chrono::steady_clock::now() < deadline) {
     const auto e = src.next(std::chrono::milliseconds(100));
-    if (std::holds_alternative<DirectPose>(e)) seen.push_back("pose");
+    if (std::holds_alternative<HeadPose>(e)) seen.push_back("pose");
     else if (const auto* n = std::get_if<SourceNote>(&e); n && n->kind == SourceNote::Kind::recenter) seen.push_back("recenter");
   }
   EXPECT_EQ(seen, (std::vector<std::string>{"pose", "recenter"}));
@@ -337,11 +345,11 @@ int oscsend(const std::vector<std::string>& args) {
 }
 
 /// The first pose the source delivers within a few seconds.
-std::optional<DirectPose> next_pose(UdpPoseSource& src) {
+std::optional<Seen> next_pose(UdpPoseSource& src) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(5);
   while (std::chrono::steady_clock::now() < deadline) {
     const SourceEvent e = src.next(std::chrono::milliseconds(100));
-    if (const auto* p = std::get_if<DirectPose>(&e)) return *p;
+    if (const auto* p = std::get_if<HeadPose>(&e)) return seen(*p);
   }
   return std::nullopt;
 }

@@ -14,6 +14,7 @@
 #include "earshot/pose_track_csv.hpp"
 
 using namespace earshot::tracker;
+using earshot::HeadPose;
 using earshot::PoseTrackCsvWriter;
 using earshot::read_pose_track_csv;
 
@@ -41,11 +42,11 @@ TEST(Opentrack, PacketIsSixLittleEndianDoubles) {
 
 TEST(Opentrack, AxesMapIntoTheAudioFrame) {
   // opentrack: yaw right positive, z forward (towards the screen).
-  const DirectPose d = opentrack_to_pose({10.0, 5.0, 20.0, 90.0, 0.0, 0.0});
-  EXPECT_TRUE(d.position_m.isApprox(Vec3(0.10, 0.05, -0.20)));
-  EXPECT_TRUE((d.orientation * Vec3(0, 0, -1)).isApprox(Vec3(1, 0, 0), 1e-12));  // looks right
-  const DirectPose up = opentrack_to_pose({0, 0, 0, 0, 30.0, 0});
-  EXPECT_GT((up.orientation * Vec3(0, 0, -1)).y(), 0.4);  // pitch up looks up
+  const HeadPose d = opentrack_to_pose({10.0, 5.0, 20.0, 90.0, 0.0, 0.0});
+  EXPECT_TRUE(to_eigen(d.position).isApprox(Vec3(0.10, 0.05, -0.20)));
+  EXPECT_TRUE((to_eigen(d.orientation) * Vec3(0, 0, -1)).isApprox(Vec3(1, 0, 0), 1e-12));  // looks right
+  const HeadPose up = opentrack_to_pose({0, 0, 0, 0, 30.0, 0});
+  EXPECT_GT((to_eigen(up.orientation) * Vec3(0, 0, -1)).y(), 0.4);  // pitch up looks up
 }
 
 TEST(Opentrack, MalformedPacketsAreDroppedWithAReason) {
@@ -68,19 +69,19 @@ TEST(Osc, AddressesAndTypes) {
   std::string why;
   auto m = d.decode(encode_osc("/earshot/pose/ypr", ypr), &why);
   ASSERT_TRUE(m && m->pose) << why;
-  EXPECT_TRUE(m->pose->position_m.isApprox(Vec3(0.1, 0.2, -0.3)));
-  EXPECT_TRUE((m->pose->orientation * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));  // yaw 90 = left
+  EXPECT_TRUE(to_eigen(m->pose->position).isApprox(Vec3(0.1, 0.2, -0.3)));
+  EXPECT_TRUE((to_eigen(m->pose->orientation) * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-12));  // yaw 90 = left
 
   const Quat q = to_eigen(earshot::quat_from_ypr(0, 0, 30 * kDeg));
   const std::array<double, 7> quat{0, 0, 0, q.w(), q.x(), q.y(), q.z()};
   m = d.decode(encode_osc("/earshot/pose/quat", quat), &why);
   ASSERT_TRUE(m && m->pose) << why;
-  EXPECT_NEAR(m->pose->orientation.angularDistance(q), 0.0, 1e-12);
+  EXPECT_NEAR(to_eigen(m->pose->orientation).angularDistance(q), 0.0, 1e-12);
 
   const std::array<double, 3> ypr_only{0, 45, 0};
   m = d.decode(encode_osc("/earshot/ypr", ypr_only), &why);
   ASSERT_TRUE(m && m->pose) << why;
-  EXPECT_TRUE(m->pose->position_m.isZero());
+  EXPECT_TRUE(to_eigen(m->pose->position).isZero());
 
   const std::array<double, 4> q_only{1, 0, 0, 0};
   EXPECT_TRUE(d.decode(encode_osc("/earshot/quat", q_only), &why));
@@ -95,7 +96,7 @@ TEST(Osc, AddressesAndTypes) {
             0x42, 0xB4, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};  // 90.0f, 0, 0 (big-endian)
   m = d.decode(raw, &why);
   ASSERT_TRUE(m && m->pose) << why;
-  EXPECT_TRUE((m->pose->orientation * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-6));
+  EXPECT_TRUE((to_eigen(m->pose->orientation) * Vec3(0, 0, -1)).isApprox(Vec3(-1, 0, 0), 1e-6));
 }
 
 TEST(Osc, MalformedMessagesAreDroppedWithAReason) {
@@ -129,9 +130,9 @@ TEST(UdpPoseSources, LoopbackPacketsBecomePosesAndBadOnesAreCounted) {
   int poses = 0;
   for (int i = 0; i < 50 && poses < 2; ++i) {  // bounded: at most 50 waits of 100 ms
     const auto e = ot.next(std::chrono::milliseconds(100));
-    if (const auto* p = std::get_if<DirectPose>(&e)) {
+    if (const auto* p = std::get_if<HeadPose>(&e)) {
       ++poses;
-      EXPECT_TRUE(p->position_m.isApprox(Vec3(0, 0, -0.1)));
+      EXPECT_TRUE(to_eigen(p->position).isApprox(Vec3(0, 0, -0.1)));
     }
   }
   EXPECT_EQ(poses, 2);

@@ -13,12 +13,10 @@ double smoothstep(double u) {
   return u * u * (3.0 - 2.0 * u);
 }
 
-WorldPose interpolate(const WorldPose& a, const WorldPose& b, double u) {
+Pose interpolate(const Pose& a, const Pose& b, double u) {
   const Quat qa(a.R), qb(b.R);
-  return {qa.slerp(u, qb).normalized().toRotationMatrix(), a.p + u * (b.p - a.p)};
+  return {qa.slerp(u, qb).normalized().toRotationMatrix(), a.t + u * (b.t - a.t)};
 }
-
-bool finite(const WorldPose& w) { return w.R.allFinite() && w.p.allFinite(); }
 
 }  // namespace
 
@@ -56,7 +54,7 @@ void LivePipeline::use_camera(const Camera& c, const std::optional<LedModel>& mo
 
 std::optional<HeadPose> LivePipeline::process(const SourceEvent& e, double now_s) {
   if (const auto* f = std::get_if<CameraFrame>(&e)) return on_frame(*f);
-  if (const auto* p = std::get_if<DirectPose>(&e)) return on_pose(*p);
+  if (const auto* p = std::get_if<HeadPose>(&e)) return on_pose(*p);
   return on_note(std::get<SourceNote>(e), now_s);
 }
 
@@ -100,13 +98,13 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
 
   const Pose& head = r.pose;  // camera frame, mm
   if (recenter_pending_ || !reference_ || direct_) {
-    reference_ = WorldPose{head.R, head.t};
+    reference_ = Pose{head.R, head.t};
     direct_ = false;
     recenter_pending_ = false;
   }
   const Mat3 A = camera_to_audio() * level_;
   const Mat3 rel = head.R * reference_->R.transpose();
-  const WorldPose w{A * rel * A.transpose(), A * (head.t - reference_->p) * 1e-3};
+  const Pose w{A * rel * A.transpose(), A * (head.t - reference_->t) * 1e-3};
   HeadPose h = good(dots.t, w, r.state);
   // The eskf's velocities, for the audio side to carry the pose on to when
   // it is heard. World pose A R Rref^T A^T: exp(w dt) R becomes
@@ -128,18 +126,18 @@ std::optional<HeadPose> LivePipeline::on_frame(const CameraFrame& f) {
   return h;
 }
 
-std::optional<HeadPose> LivePipeline::on_pose(const DirectPose& p) {
+std::optional<HeadPose> LivePipeline::on_pose(const HeadPose& p) {
   ++counters_.frames;
-  const WorldPose head{p.orientation.normalized().toRotationMatrix(), p.position_m};
+  const Pose head{to_eigen(p.orientation).normalized().toRotationMatrix(), to_eigen(p.position)};
   if (!std::isfinite(p.t)) return std::nullopt;
-  if (!finite(head)) return lost_pose(p.t);
+  if (!head.finite()) return lost_pose(p.t);
   if (recenter_pending_ || !direct_) {
     // Direct sources have a meaningful zero of their own: identity until recentered.
-    reference_ = recenter_pending_ ? head : WorldPose{};
+    reference_ = recenter_pending_ ? head : Pose{};
     direct_ = true;
     recenter_pending_ = false;
   }
-  const WorldPose w{head.R * reference_->R.transpose(), head.p - reference_->p};
+  const Pose w{head.R * reference_->R.transpose(), head.t - reference_->t};
   return good(p.t, w, PoseState::tracking);
 }
 
@@ -158,15 +156,15 @@ HeadPose LivePipeline::on_note(const SourceNote& n, double now) {
   return lost_pose(now);
 }
 
-HeadPose LivePipeline::good(double t, const WorldPose& target, PoseState s) {
-  if (!finite(target)) return lost_pose(t);
+HeadPose LivePipeline::good(double t, const Pose& target, PoseState s) {
+  if (!target.finite()) return lost_pose(t);
   if (state_ == PoseState::lost) {
     resuming_ = true;  // blend from wherever the held/eased pose is now
     resume_t_ = t;
     resume_from_ = out_;
   }
   last_good_t_ = t;
-  WorldPose w = target;
+  Pose w = target;
   if (resuming_) {
     const double u = cfg_.resume_s > 0.0 ? (t - resume_t_) / cfg_.resume_s : 1.0;
     if (u >= 1.0) resuming_ = false;
@@ -176,21 +174,21 @@ HeadPose LivePipeline::good(double t, const WorldPose& target, PoseState s) {
 }
 
 HeadPose LivePipeline::lost_pose(double t) {
-  if (state_ == PoseState::searching) return emit(t, WorldPose{}, PoseState::searching);
+  if (state_ == PoseState::searching) return emit(t, Pose{}, PoseState::searching);
   if (state_ != PoseState::lost) resume_from_ = out_;  // the pose to hold
   resuming_ = false;
   const double since = t - last_good_t_;
   const double u = cfg_.ease_s > 0.0 ? (since - cfg_.hold_s) / cfg_.ease_s : (since > cfg_.hold_s ? 1.0 : 0.0);
-  return emit(t, interpolate(resume_from_, WorldPose{}, smoothstep(u)), PoseState::lost);
+  return emit(t, interpolate(resume_from_, Pose{}, smoothstep(u)), PoseState::lost);
 }
 
-HeadPose LivePipeline::emit(double t, const WorldPose& w, PoseState s) {
+HeadPose LivePipeline::emit(double t, const Pose& w, PoseState s) {
   state_ = s;
-  out_ = finite(w) ? w : out_;
+  out_ = w.finite() ? w : out_;
   ++counters_.poses;
   HeadPose h;
   h.t = t;
-  h.position = to_common(out_.p);
+  h.position = to_common(out_.t);
   Quat q(out_.R);
   q.normalize();
   if (q.w() < 0.0) q.coeffs() = -q.coeffs();

@@ -106,7 +106,7 @@ void LiveTracker::run(std::stop_token stop) {
       bool ended = false;
       const auto* frame = std::get_if<CameraFrame>(&e);
       if (frame) now = frame->dots.t;
-      if (const auto* p = std::get_if<DirectPose>(&e)) {
+      if (const auto* p = std::get_if<HeadPose>(&e)) {
         now = p->t;
         rate.add(wall);
       }

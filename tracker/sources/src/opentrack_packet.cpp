@@ -50,11 +50,12 @@ std::array<std::uint8_t, kOpentrackPacketSize> encode_opentrack(const OpentrackP
   return out;
 }
 
-DirectPose opentrack_to_pose(const OpentrackPacket& p) {
+HeadPose opentrack_to_pose(const OpentrackPacket& p) {
   constexpr double deg = std::numbers::pi / 180.0;
-  DirectPose d;
-  d.position_m = Vec3(p.x_cm, p.y_cm, -p.z_cm) * 0.01;
-  d.orientation = to_eigen(quat_from_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, p.roll_deg * deg));
+  HeadPose d;
+  d.position = to_common(Vec3(Vec3(p.x_cm, p.y_cm, -p.z_cm) * 0.01));
+  d.orientation = quat_from_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, p.roll_deg * deg);
+  d.state = PoseState::tracking;
   return d;
 }
 

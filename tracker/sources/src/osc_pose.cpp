@@ -84,9 +84,10 @@ std::optional<Quat> unit_quat(double w, double x, double y, double z, std::strin
 }
 
 PoseMessage pose(const Vec3& position_m, const Quat& orientation) {
-  DirectPose d;
-  d.position_m = position_m;
-  d.orientation = orientation;
+  HeadPose d;
+  d.position = to_common(position_m);
+  d.orientation = to_common(orientation);
+  d.state = PoseState::tracking;
   return PoseMessage{d, false};
 }
 

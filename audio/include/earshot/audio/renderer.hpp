@@ -37,6 +37,7 @@
 #include "earshot/audio/hrtf_spectra.hpp"
 #include "earshot/audio/near_field.hpp"
 #include "earshot/geometry.hpp"
+#include "earshot/head_pose.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 
 namespace earshot::audio {
@@ -58,12 +59,6 @@ struct RendererConfig {
   bool near_field = true;
 };
 
-struct ListenerState {
-  Vec3 position{0, 0, 0};
-  Quat orientation{1, 0, 0, 0};  ///< head rotation in the world frame
-  double gain = 1.0;
-};
-
 struct SourceState {
   Vec3 position{0, 0, -1};
   double gain = 1.0;
@@ -81,7 +76,7 @@ struct SourceState {
 struct HeadRelative {
   double azimuth = 0.0, elevation = 0.0, distance = 0.0;
 };
-[[nodiscard]] HeadRelative head_relative(const Vec3& point, const ListenerState& listener);
+[[nodiscard]] HeadRelative head_relative(const Vec3& point, const HeadPose& listener);
 
 class Renderer {
  public:
@@ -95,7 +90,12 @@ class Renderer {
   /// Adds a source; returns its index, or -1 when max_sources are in use.
   int add_source(const SourceState& s);
   void set_source(int index, const SourceState& s);
-  void set_listener(const ListenerState& l) { listener_ = l; }
+  /// The listener's head in the world (position, orientation; the rest of
+  /// the pose is not used) and its gain (OpenAL's AL_GAIN on the listener).
+  void set_listener(const HeadPose& pose, double gain = 1.0) {
+    listener_ = pose;
+    listener_gain_ = gain;
+  }
 
   /// The mono input block of a source: write block() samples before render().
   [[nodiscard]] std::span<float> source_input(int index);
@@ -121,7 +121,8 @@ class Renderer {
 
   std::shared_ptr<const hrtf::HrtfSet> hrtf_;
   RendererConfig cfg_;
-  ListenerState listener_;
+  HeadPose listener_;
+  double listener_gain_ = 1.0;
   std::vector<std::unique_ptr<Voice>> voices_;
   std::size_t active_ = 0;
   std::shared_ptr<const NearFieldTable> near_field_;  // shared by every renderer at this rate and set; null when off

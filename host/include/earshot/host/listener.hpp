@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "earshot/audio/renderer.hpp"
+#include "earshot/head_pose.hpp"
 #include "earshot/host/world_handle.hpp"
 #include "earshot/scenes/pose_track.hpp"
 #include "earshot/scenes/scene.hpp"
@@ -16,11 +16,11 @@
 namespace earshot::host {
 
 /// The scene's listener: its position, turned by its yaw, pitch and roll.
-[[nodiscard]] audio::ListenerState fixed_listener(const scenes::SceneListener& l);
+[[nodiscard]] HeadPose fixed_listener(const scenes::SceneListener& l);
 
 /// Sets the world's listener position and orientation; an error names
 /// `origin` and the time `t` (seconds).
-void set_listener(const WorldHandle& world, const audio::ListenerState& l, std::string_view origin, double t);
+void set_listener(const WorldHandle& world, const HeadPose& l, std::string_view origin, double t);
 
 /// The listener of an offline render: a Pose track when there is one (the
 /// override, else the scene's), else the scene's fixed listener.
@@ -36,7 +36,7 @@ class ListenerTrack {
  private:
   std::optional<scenes::PoseTrack> track_;
   std::string origin_;
-  audio::ListenerState fixed_;
+  HeadPose fixed_;
 };
 
 }  // namespace earshot::host

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "earshot/audio/renderer.hpp"
+#include "earshot/head_pose.hpp"
 #include "earshot/pose_track_csv.hpp"
 
 namespace earshot::scenes {
@@ -19,12 +19,13 @@ class PoseTrack {
   static PoseTrack read(std::istream& in, const std::string& origin);
   static PoseTrack load(const std::filesystem::path& path);
 
-  [[nodiscard]] audio::ListenerState at(double t) const;
+  /// The listener at `t` (position, orientation; the state of the row before).
+  [[nodiscard]] HeadPose at(double t) const;
   [[nodiscard]] std::size_t size() const { return rows_.size(); }
 
  private:
-  explicit PoseTrack(std::vector<PoseTrackRow> rows) : rows_(std::move(rows)) {}
-  std::vector<PoseTrackRow> rows_;  // at least one, times increasing
+  explicit PoseTrack(std::vector<HeadPose> rows) : rows_(std::move(rows)) {}
+  std::vector<HeadPose> rows_;  // at least one, times increasing
 };
 
 }  // namespace earshot::scenes

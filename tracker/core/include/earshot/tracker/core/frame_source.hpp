@@ -15,6 +15,7 @@
 #include <utility>
 #include <variant>
 
+#include "earshot/head_pose.hpp"
 #include "earshot/tracker/core/camera.hpp"
 #include "earshot/tracker/core/dots_csv.hpp"
 #include "earshot/tracker/core/led_model.hpp"
@@ -45,14 +46,6 @@ struct Thumbnail {
   double t = 0.0;            ///< the frame's time on the source clock
 };
 
-/// A head pose from a source that solves its own (opentrack, OSC): the head
-/// in the audio world frame (+x right, +y up, -z ahead), metres.
-struct DirectPose {
-  double t = 0.0;  ///< seconds on the source's clock
-  Vec3 position_m = Vec3::Zero();
-  Quat orientation = Quat::Identity();
-};
-
 struct SourceNote {
   enum class Kind {
     timeout,       ///< nothing arrived within the wait
@@ -67,7 +60,11 @@ struct SourceNote {
   std::optional<double> t;  ///< source-clock time, when the source knows it
 };
 
-using SourceEvent = std::variant<CameraFrame, DirectPose, SourceNote>;
+/// What a source hands the pipeline: a camera frame of dots, a head pose
+/// from a source that solves its own (opentrack, OSC: the head in the audio
+/// world frame, +x right, +y up, -z ahead, metres, on the source's clock in
+/// `t`), or a note about the link.
+using SourceEvent = std::variant<CameraFrame, HeadPose, SourceNote>;
 
 [[nodiscard]] inline SourceNote make_note(SourceNote::Kind kind, std::string message = {},
                                           std::optional<double> t = std::nullopt) {

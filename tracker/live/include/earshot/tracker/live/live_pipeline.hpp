@@ -58,12 +58,6 @@ struct LiveConfig {
 /// (a webcam's resolution and focal length, a tag's corners).
 [[nodiscard]] LiveConfig with_source_model(LiveConfig cfg, const FrameSource& source);
 
-/// Rigid pose in the audio world frame, metres.
-struct WorldPose {
-  Mat3 R = Mat3::Identity();
-  Vec3 p = Vec3::Zero();
-};
-
 /// Camera frame (+x right, +y down, +z away from the camera) to the audio
 /// world frame of a listener facing the camera: right is the camera's -x, up
 /// its -y, ahead (-z) towards the camera.
@@ -111,13 +105,13 @@ class LivePipeline {
 
  private:
   std::optional<HeadPose> on_frame(const CameraFrame& f);
-  std::optional<HeadPose> on_pose(const DirectPose& p);
+  std::optional<HeadPose> on_pose(const HeadPose& p);
   HeadPose on_note(const SourceNote& n, double now);
   void update_level(const Vec3& accel_cam_g);
   /// World pose of a good measurement -> published pose (recenter, resume blend).
-  HeadPose good(double t, const WorldPose& head, PoseState s);
+  HeadPose good(double t, const Pose& head, PoseState s);
   HeadPose lost_pose(double t);
-  HeadPose emit(double t, const WorldPose& w, PoseState s);
+  HeadPose emit(double t, const Pose& w, PoseState s);
 
   LiveConfig cfg_;
   DotTracker tracker_;
@@ -128,14 +122,15 @@ class LivePipeline {
   int still_count_ = 0;
   std::uint16_t buttons_ = 0;
   bool recenter_pending_ = false;
-  std::optional<WorldPose> reference_;  ///< the head pose captured at recenter
+  // Poses in the audio world frame from here on (t in metres, not mm).
+  std::optional<Pose> reference_;  ///< the head pose captured at recenter
   bool direct_ = false;                 ///< the reference is in audio axes already
   PoseState state_ = PoseState::searching;
-  WorldPose out_;                       ///< the last published listener pose
+  Pose out_;                            ///< the last published listener pose
   double last_good_t_ = 0.0;
   bool resuming_ = false;
   double resume_t_ = 0.0;
-  WorldPose resume_from_;
+  Pose resume_from_;
   PipelineCounters counters_;
   double (*steady_clock_)() = &steady_clock_s;
 };

@@ -30,7 +30,7 @@ struct OpentrackPacket {
 [[nodiscard]] std::array<std::uint8_t, kOpentrackPacketSize> encode_opentrack(const OpentrackPacket& p);
 
 /// A parsed packet as a head pose in the audio world frame.
-[[nodiscard]] DirectPose opentrack_to_pose(const OpentrackPacket& p);
+[[nodiscard]] HeadPose opentrack_to_pose(const OpentrackPacket& p);
 
 /// parse_opentrack + opentrack_to_pose, as a PacketDecoder.
 [[nodiscard]] std::optional<PoseMessage> decode_opentrack(std::span<const std::uint8_t> bytes, std::string* why);

@@ -20,7 +20,7 @@ namespace earshot::tracker {
 /// What one datagram asks for: a head pose (audio world frame, time unset)
 /// and/or a recenter.
 struct PoseMessage {
-  std::optional<DirectPose> pose;
+  std::optional<HeadPose> pose;
   bool recenter = false;
 };
 

@@ -38,6 +38,7 @@
 #include "panner_switch.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/room_presets.hpp"
+#include "earshot/head/head_reader.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "handoff.hpp"
 #include "shared_tracker.hpp"
@@ -137,13 +138,17 @@ class Plugin {
   void run(std::uint32_t frames) {
     read_control_events();
     request_tracker();
+    // The tracked head as this block will be heard: after the host's block
+    // and the panner's own latency (the host's output latency is not told).
+    HeadPose tracked;
     if (holder_) {
       const bool recenter = control(kRecenter) > 0.5f;
-      if (recenter && !recenter_was_) holder_->lease->tracker->recenter();
+      if (recenter && !recenter_was_) holder_->lease->head->recenter();
       recenter_was_ = recenter;
-      if (auto p = holder_->lease->slot.try_load()) tracked_ = *p;
+      const double lead = (static_cast<double>(frames) + static_cast<double>(panners_.current().latency())) / rate_;
+      tracked = head_reader_.read(holder_->lease->slot, {.predict = true, .lead_s = lead});
     } else {
-      tracked_ = HeadPose{};
+      head_reader_.reset();
     }
 
     PannerParams p;
@@ -157,14 +162,12 @@ class Plugin {
     p.reverb_send_db = control(kReverbSend);
     // The offsets are the listener's own orientation in the room; the
     // tracked head turns on top of it (as the C API's listener and tracker).
-    const Quat offset =
+    HeadPose listener;
+    listener.orientation =
         quat_from_ypr(control(kYawOffset) * kDeg, control(kPitchOffset) * kDeg, control(kRollOffset) * kDeg);
-    p.head_orientation = multiply(offset, tracked_.orientation);
-    p.head_position = rotate(offset, tracked_.position);
-    if (!tracked_.finite()) {
-      p.head_orientation = offset;
-      p.head_position = {0, 0, 0};
-    }
+    const HeadPose heard = head::compose(listener, tracked);
+    p.head_orientation = heard.orientation;
+    p.head_position = heard.position;
     panners_.update(p);
 
     const auto* in = static_cast<const float*>(ports_[kIn]);
@@ -237,7 +240,7 @@ class Plugin {
     } else if (r.job == Job::start_tracker) {
       std::unique_ptr<LeaseHolder> next = born_holders_.take(r.slot);
       if (!next) return LV2_WORKER_ERR_UNKNOWN;
-      if (tracker_requested_ == next->lease->spec) {
+      if (tracker_requested_ == next->lease->head->spec()) {
         std::swap(holder_, next);
       }
       if (next) hand_to_worker(std::move(next));
@@ -460,7 +463,7 @@ class Plugin {
   std::unique_ptr<LeaseHolder> parked_holder_;
   std::string tracker_spec_ = reserved(256);       // from state or patch:Set; "" = the source port
   std::string tracker_requested_ = reserved(256);  // what run() last asked the worker for
-  HeadPose tracked_{};
+  head::HeadReader head_reader_;  // audio thread
   bool recenter_was_ = false;
   bool announce_sofa_ = false, announce_tracker_ = false;
 

@@ -10,14 +10,11 @@ SharedTrackers& SharedTrackers::process() {
 }
 
 std::shared_ptr<TrackerLease> SharedTrackers::acquire(const std::string& spec) {
-  const auto parsed = tracker::parse_source_spec(spec, "tracker");
+  (void)tracker::parse_source_spec(spec, "tracker");  // a bad spec throws before anything is registered
   std::lock_guard lock(mutex_);
   if (auto held = leases_[spec].lock()) return held;
   auto lease = std::make_shared<TrackerLease>();
-  lease->spec = spec;
-  tracker::SourceOptions options;
-  options.wait_for_remote = true;  // no remote yet: the plugin plays on, the tracker keeps looking
-  lease->tracker = std::make_unique<tracker::LiveTracker>(tracker::make_frame_source(parsed, options), lease->slot);
+  lease->head = std::make_unique<head::TrackedHead>(spec, lease->slot);
   leases_[spec] = lease;
   return lease;
 }

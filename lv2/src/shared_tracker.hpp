@@ -15,15 +15,14 @@
 #include <string>
 
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/head/tracked_head.hpp"
 
 namespace earshot::lv2 {
 
 /// One running tracker and the slot it publishes into.
 struct TrackerLease {
-  std::string spec;
   PoseSlot slot;  // declared before the tracker: it outlives the tracker thread
-  std::unique_ptr<tracker::LiveTracker> tracker;
+  std::unique_ptr<head::TrackedHead> head;
 };
 
 class SharedTrackers {

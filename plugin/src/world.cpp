@@ -45,7 +45,7 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   cfg.speed_of_sound = p.speed_of_sound;
   cfg.doppler_factor = propagation_delay() ? p.doppler_factor : 0.0;
   renderer_config_ = cfg;
-  renderer_ = std::make_unique<audio::Renderer>(hrtf, cfg);
+  renderers_ = audio::CrossfadeSwitch<audio::Renderer>(std::make_unique<audio::Renderer>(hrtf, cfg));
   fade_l_.assign(cfg.block, 0.0f);
   fade_r_.assign(cfg.block, 0.0f);
   const audio::LateReverbType late =
@@ -92,17 +92,15 @@ void World::set_hrtf(const char* path) {
 
 void World::adopt_new_renderer() {
   if (retired_ && !outgoing_.load(std::memory_order_relaxed)) outgoing_.store(retired_.release(), std::memory_order_release);
-  if (fading_ || retired_) return;  // one switch at a time; a newer set waits in incoming_
+  if (renderers_.switching() || retired_) return;  // one switch at a time; a newer set waits in incoming_
   audio::Renderer* next = incoming_.exchange(nullptr, std::memory_order_acq_rel);
   if (!next) return;
-  fading_ = std::move(renderer_);
-  renderer_.reset(next);  // adopted: it was released into incoming_ by set_hrtf
+  (void)renderers_.switch_to(std::unique_ptr<audio::Renderer>(next));  // adopted: released into incoming_ by set_hrtf
   for (std::size_t i = 0; i < voices_; ++i) {
     audio::SourceState silent;
     silent.gain = 0.0;
-    (void)renderer_->add_source(silent);  // preallocated voices: no allocation
+    (void)renderers_.current().add_source(silent);  // preallocated voices: no allocation
   }
-  fade_frames_ = 0;
 }
 
 void World::publish() {
@@ -208,21 +206,7 @@ void World::attach_tracker(const char* spec) {
   tracker_.reset();  // stops and joins the old one
   if (!spec || !*spec) return;
   try {
-    tracker::LiveConfig cfg;
-    cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to neutral
-    tracker::SourceOptions source;
-    source.wait_for_remote = true;  // the host plays on and shows how to pair one (esGetTrackerState)
-    const tracker::SourceSpec parsed = tracker::parse_source_spec(spec, "tracker");
-    auto frames = tracker::make_frame_source(parsed, source);
-    // The camera the dots are in, asked here before the tracker thread owns
-    // the source: a webcam's opened size, else the configured (Wii) camera.
-    // A webcam not opened yet (waiting for its device) has no size to give.
-    const std::optional<tracker::Camera> own = frames->camera();
-    const bool unknown = parsed.sends_poses() || (!own && parsed.kind == tracker::SourceSpec::Kind::webcam);
-    const tracker::Camera cam = own.value_or(cfg.camera);
-    camera_width_ = unknown ? 0 : cam.width;
-    camera_height_ = unknown ? 0 : cam.height;
-    tracker_ = std::make_unique<tracker::LiveTracker>(std::move(frames), tracker_slot_, cfg);
+    tracker_ = std::make_unique<head::TrackedHead>(spec, tracker_slot_);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
   }
@@ -235,8 +219,8 @@ void World::tracker_image(EStrackerimage& out) const {
     return;
   }
   tracker::Thumbnail th;  // on the control thread's stack: ~19 kB
-  const bool has = tracker_->thumbnail(th);
-  fill_tracker_image(has ? &th : nullptr, camera_width_, camera_height_, out);
+  const bool has = tracker_->tracker().thumbnail(th);
+  fill_tracker_image(has ? &th : nullptr, tracker_->camera_width(), tracker_->camera_height(), out);
 }
 
 void World::recenter() {
@@ -248,7 +232,7 @@ void World::tracker_state(EStrackerstate& out) const {
     fill_tracker_state(nullptr, out);
     return;
   }
-  const tracker::LiveTracker::Status st = tracker_->status();
+  const tracker::LiveTracker::Status st = tracker_->tracker().status();
   fill_tracker_state(&st, out);
 }
 
@@ -321,30 +305,24 @@ void World::render(float* left, float* right) {
     front_ = middle_.exchange(front_, std::memory_order_acq_rel) & 3u;
   const Snapshot& s = snaps_[front_];
 
-  // The head: the tracker's newest pose (one attempt, never waiting), else the host's.
+  // The head: the tracker's newest pose carried on to when this block is
+  // heard (the pose is a camera frame, the tracker and this buffer old by
+  // then), else the host's.
   HeadPose head;
   head.position = s.head_position;
   head.orientation = s.head_orientation;
   if (tracker_on_.load(std::memory_order_acquire)) {
-    if (auto p = tracker_slot_.try_load()) tracked_ = *p;
-    // Carried on to when this block is heard (the pose is a camera frame,
-    // the tracker and this buffer old by then). Reading steady_clock is a
-    // vDSO read, not a system call; extrapolate is arithmetic.
-    const HeadPose heard =
-        predict_head_.load(std::memory_order_relaxed)
-            ? extrapolate(tracked_, std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() +
-                                        output_latency_s())
-            : tracked_;
+    const HeadPose heard = head_reader_.read(
+        tracker_slot_, {.predict = predict_head_.load(std::memory_order_relaxed), .lead_s = output_latency_s()});
     head.position = heard.position;
     head.orientation = heard.orientation;
   }
   adopt_new_renderer();
-  HeadPose l = s.listener;
-  const Vec3 offset = rotate(l.orientation, head.position);
-  for (int i = 0; i < 3; ++i) l.position[i] += offset[i];
-  l.orientation = multiply(l.orientation, head.orientation);
-  renderer_->set_listener(l, s.listener_gain);
-  if (fading_) fading_->set_listener(l, s.listener_gain);
+  audio::Renderer& renderer = renderers_.current();
+  audio::Renderer* const fading = renderers_.fading();  // the old set during a switch, else null
+  const HeadPose l = head::compose(s.listener, head);
+  renderer.set_listener(l, s.listener_gain);
+  if (fading) fading->set_listener(l, s.listener_gain);
   head.state = PoseState::tracking;
   head.t = static_cast<double>(blocks_.load(std::memory_order_relaxed)) * static_cast<double>(params_.block_size) /
            static_cast<double>(params_.sample_rate);
@@ -357,8 +335,8 @@ void World::render(float* left, float* right) {
   while (voices_ < highest) {
     audio::SourceState silent;
     silent.gain = 0.0;
-    (void)renderer_->add_source(silent);
-    if (fading_) (void)fading_->add_source(silent);
+    (void)renderer.add_source(silent);
+    if (fading) (void)fading->add_source(silent);
     ++voices_;
   }
   for (std::size_t i = 0; i < voices_; ++i) {
@@ -369,26 +347,20 @@ void World::render(float* left, float* right) {
       st.position = s.sources[i].state.position;
       st.gain = 0.0;
     }
-    renderer_->set_source(static_cast<int>(i), st);
-    feed(i, sp, renderer_->source_input(static_cast<int>(i)), doppler_shift(sp, s));
-    if (fading_) {  // the old set hears the same input
-      fading_->set_source(static_cast<int>(i), st);
-      const auto from = renderer_->source_input(static_cast<int>(i));
-      std::copy(from.begin(), from.end(), fading_->source_input(static_cast<int>(i)).begin());
+    renderer.set_source(static_cast<int>(i), st);
+    feed(i, sp, renderer.source_input(static_cast<int>(i)), doppler_shift(sp, s));
+    if (fading) {  // the old set hears the same input
+      fading->set_source(static_cast<int>(i), st);
+      const auto from = renderer.source_input(static_cast<int>(i));
+      std::copy(from.begin(), from.end(), fading->source_input(static_cast<int>(i)).begin());
     }
   }
 
   std::span<float> l_out(left, params_.block_size), r_out(right, params_.block_size);
-  renderer_->render(l_out, r_out);
-  if (fading_) {
-    fading_->render(fade_l_, fade_r_);
-    for (std::size_t i = 0; i < params_.block_size; ++i) {
-      const std::size_t t = fade_frames_ + i;
-      const float g = audio::crossfade_gain(t, kWarmFrames, kFadeFrames);
-      l_out[i] = g * l_out[i] + (1.0f - g) * fade_l_[i];
-      r_out[i] = g * r_out[i] + (1.0f - g) * fade_r_[i];
-    }
-    fade_frames_ += params_.block_size;
+  renderer.render(l_out, r_out);
+  if (fading) {
+    fading->render(fade_l_, fade_r_);
+    renderers_.blend(l_out, r_out, fade_l_, fade_r_);
   }
 
   // The room on the send bus, back into the next block's mix (as earshot render).
@@ -401,16 +373,16 @@ void World::render(float* left, float* right) {
   }
   if (s.reverb_enabled) {
     if (!reverb_was_on_) room_->reset();
-    room_->process(renderer_->reverb_send(), renderer_->return_left(), renderer_->return_right());
-    if (fading_) {  // the room returns into both mixes (their weights sum to one)
-      std::copy(renderer_->return_left().begin(), renderer_->return_left().end(), fading_->return_left().begin());
-      std::copy(renderer_->return_right().begin(), renderer_->return_right().end(), fading_->return_right().begin());
+    room_->process(renderer.reverb_send(), renderer.return_left(), renderer.return_right());
+    if (renderers_.fading()) {  // the room returns into both mixes (their weights sum to one)
+      std::copy(renderer.return_left().begin(), renderer.return_left().end(), fading->return_left().begin());
+      std::copy(renderer.return_right().begin(), renderer.return_right().end(), fading->return_right().begin());
     }
   }
-  if (fading_ && fade_frames_ >= kWarmFrames + kFadeFrames) {
+  if (auto done = renderers_.finished()) {
     // Faded out: back to the control side to be freed (or held until the slot is free).
-    if (!outgoing_.load(std::memory_order_relaxed)) outgoing_.store(fading_.release(), std::memory_order_release);
-    else retired_ = std::move(fading_);
+    if (!outgoing_.load(std::memory_order_relaxed)) outgoing_.store(done.release(), std::memory_order_release);
+    else retired_ = std::move(done);
   }
   reverb_was_on_ = s.reverb_enabled;
   blocks_.fetch_add(1, std::memory_order_relaxed);

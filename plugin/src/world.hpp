@@ -12,10 +12,11 @@
 //
 // HRTF switch (esWorldHrtf): the control thread prepares a renderer for the
 // new set and hands it over through an atomic pointer; the audio thread
-// adopts it at a block start, renders the old and the new side by side on
-// the same input for kWarmFrames, crossfades over kFadeFrames, and hands the
-// old one back through another atomic pointer for the control thread to
-// free. No lock, no allocation on the audio thread.
+// adopts it at a block start (audio::CrossfadeSwitch, the project's one HRTF
+// switch: the old and the new side by side on the same input for a warm-up,
+// then a crossfade), and hands the old one back through another atomic
+// pointer for the control thread to free. No lock, no allocation on the
+// audio thread.
 //
 // Buffers: the samples are owned by the control side. A deleted buffer's
 // samples are freed only when none of the three snapshots refers to them,
@@ -33,15 +34,14 @@
 #include <thread>
 #include <vector>
 
+#include "earshot/audio/crossfade_switch.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "earshot/audio/room_reverb.hpp"
 #include "earshot/earshot.h"
 #include "earshot/geometry.hpp"
+#include "earshot/head/head_reader.hpp"
+#include "earshot/head/tracked_head.hpp"
 #include "earshot/pose_slot.hpp"
-
-namespace earshot::tracker {
-class LiveTracker;
-}
 
 namespace earshot::plugin {
 
@@ -127,7 +127,8 @@ class World {
   /// prepares it here (the process's HRTF cache). Throws Failure (ES_HRTF_ERROR).
   void set_hrtf(const char* path);
   /// Frames both sets render before the crossfade, and its length.
-  static constexpr std::size_t kWarmFrames = 512, kFadeFrames = 512;
+  static constexpr std::size_t kWarmFrames = audio::CrossfadeSwitch<audio::Renderer>::kWarm,
+                               kFadeFrames = audio::CrossfadeSwitch<audio::Renderer>::kFade;
 
   void attach_tracker(const char* spec);  ///< throws Failure
   void recenter();
@@ -219,14 +220,12 @@ class World {
   std::atomic<std::thread::id> render_thread_{};
   std::atomic<std::uint64_t> blocks_{0};
   audio::RendererConfig renderer_config_;
-  std::unique_ptr<audio::Renderer> renderer_;
+  audio::CrossfadeSwitch<audio::Renderer> renderers_;  // the set in use, and the one fading out
   std::unique_ptr<audio::RoomReverb> room_;
   // The HRTF switch (see the top): owned while in these slots.
   std::atomic<audio::Renderer*> incoming_{nullptr};  // control -> audio
   std::atomic<audio::Renderer*> outgoing_{nullptr};  // audio -> control, to free
-  std::unique_ptr<audio::Renderer> fading_;          // audio side: the old set, until faded out
   std::unique_ptr<audio::Renderer> retired_;         // audio side: faded out, outgoing_ was full
-  std::size_t fade_frames_ = 0;
   std::vector<float> fade_l_, fade_r_;
   std::uint64_t room_serial_seen_ = 0;
   bool reverb_was_on_ = false;
@@ -234,15 +233,14 @@ class World {
   std::vector<Playback> playback_;
   std::unique_ptr<std::atomic<std::uint64_t>[]> status_;   // serial << 8 | state index
   std::unique_ptr<std::atomic<double>[]> offsets_;
-  HeadPose tracked_{};
+  head::HeadReader head_reader_;  // audio side
 
   // tracking
-  PoseSlot tracker_slot_;
+  PoseSlot tracker_slot_;  // outlives every tracker attached (the audio side reads it)
   std::atomic<bool> tracker_on_{false};
   std::atomic<bool> predict_head_{true};
   std::atomic<double> host_latency_s_{0.0};
-  std::unique_ptr<tracker::LiveTracker> tracker_;
-  int camera_width_ = 0, camera_height_ = 0;  // the attached source's camera image (0: poses only)
+  std::unique_ptr<head::TrackedHead> tracker_;
   PoseSlot used_pose_;  // written by the audio thread, read anywhere
 };
 

@@ -7,21 +7,21 @@
 #include <new>
 
 #include "earshot/earshot_openal_bridge.h"
-#include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/geometry.hpp"
-#include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/head/head_reader.hpp"
+#include "earshot/head/tracked_head.hpp"
+#include "earshot/pose_slot.hpp"
+#include "openal_latency.hpp"
 
 using earshot::Quat;
 using earshot::Vec3;
 
 struct ESALbridge {
-  earshot::PoseSlot slot;  // the tracker's
-  std::unique_ptr<earshot::tracker::LiveTracker> tracker;
-  Vec3 listener_position{0, 0, 0};
-  Quat listener_orientation{1, 0, 0, 0};
-  Vec3 head_position{0, 0, 0};
-  Quat head_orientation{1, 0, 0, 0};
+  earshot::PoseSlot slot;  // the tracker's; outlives it
+  std::unique_ptr<earshot::head::TrackedHead> tracker;
+  earshot::head::HeadReader reader;
+  earshot::HeadPose listener;  // the application's (esalBridgeSetListener)
+  earshot::HeadPose head;      // the application's own head pose, without a tracker
 };
 
 namespace {
@@ -36,10 +36,7 @@ ES_API ESenum esalCreateBridge(const char* spec, ESALbridge** out) {
   try {
     auto b = std::make_unique<ESALbridge>();
     if (spec && *spec) {
-      earshot::tracker::SourceOptions source;
-      source.wait_for_remote = true;  // no remote yet: the application plays on
-      b->tracker = std::make_unique<earshot::tracker::LiveTracker>(
-          earshot::tracker::make_frame_source(earshot::tracker::parse_source_spec(spec, "tracker"), source), b->slot);
+      b->tracker = std::make_unique<earshot::head::TrackedHead>(spec, b->slot);
     }
     *out = b.release();  // owned by the application until esalDestroyBridge
     return ES_OK;
@@ -56,8 +53,8 @@ ES_API ESenum esalBridgeSetListener(ESALbridge* b, const ESfloat* position, cons
   if (!b || !position || !at_up || !finite3(position)) return ES_INVALID_VALUE;
   const auto q = earshot::quat_from_at_up(Vec3{at_up[0], at_up[1], at_up[2]}, Vec3{at_up[3], at_up[4], at_up[5]});
   if (!q) return ES_INVALID_VALUE;
-  b->listener_position = {position[0], position[1], position[2]};
-  b->listener_orientation = *q;
+  b->listener.position = {position[0], position[1], position[2]};
+  b->listener.orientation = *q;
   return ES_OK;
 }
 
@@ -65,8 +62,8 @@ ES_API ESenum esalBridgeSetHeadPose(ESALbridge* b, const ESfloat* position, cons
   if (!b || !position || !orientation || !finite3(position)) return ES_INVALID_VALUE;
   const auto q = earshot::normalised(Quat{orientation[0], orientation[1], orientation[2], orientation[3]});
   if (!q) return ES_INVALID_VALUE;
-  b->head_position = {position[0], position[1], position[2]};
-  b->head_orientation = *q;
+  b->head.position = {position[0], position[1], position[2]};
+  b->head.orientation = *q;
   return ES_OK;
 }
 
@@ -78,19 +75,18 @@ ES_API ESenum esalBridgeRecenter(ESALbridge* b) {
 
 ES_API ESenum esalBridgeUpdate(ESALbridge* b) {
   if (!b) return ES_INVALID_VALUE;
+  ALCcontext* ctx = alcGetCurrentContext();
   if (b->tracker) {
-    if (auto p = b->slot.try_load()) {
-      b->head_position = p->position;
-      b->head_orientation = p->orientation;
-    }
+    // The tracked head as the next mix will be heard (the device's latency ahead).
+    const earshot::head::HeadTiming timing{.predict = true,
+                                           .lead_s = earshot::openal::output_latency_s(ctx ? alcGetContextsDevice(ctx) : nullptr)};
+    b->head = b->reader.read(b->slot, timing);
   }
-  if (!alcGetCurrentContext()) return ES_INVALID_OPERATION;
-  const Quat q = earshot::multiply(b->listener_orientation, b->head_orientation);
-  const Vec3 offset = earshot::rotate(b->listener_orientation, b->head_position);
-  const Vec3 at = earshot::rotate(q, {0, 0, -1}), up = earshot::rotate(q, {0, 1, 0});
-  const ALfloat pos[3] = {static_cast<ALfloat>(b->listener_position[0] + offset[0]),
-                          static_cast<ALfloat>(b->listener_position[1] + offset[1]),
-                          static_cast<ALfloat>(b->listener_position[2] + offset[2])};
+  if (!ctx) return ES_INVALID_OPERATION;
+  const earshot::HeadPose heard = earshot::head::compose(b->listener, b->head);
+  const Vec3 at = earshot::rotate(heard.orientation, {0, 0, -1}), up = earshot::rotate(heard.orientation, {0, 1, 0});
+  const ALfloat pos[3] = {static_cast<ALfloat>(heard.position[0]), static_cast<ALfloat>(heard.position[1]),
+                          static_cast<ALfloat>(heard.position[2])};
   const ALfloat ori[6] = {static_cast<ALfloat>(at[0]), static_cast<ALfloat>(at[1]), static_cast<ALfloat>(at[2]),
                           static_cast<ALfloat>(up[0]), static_cast<ALfloat>(up[1]), static_cast<ALfloat>(up[2])};
   (void)alGetError();

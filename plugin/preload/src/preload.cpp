@@ -55,9 +55,11 @@
 #include <unordered_set>
 
 #include "earshot/geometry.hpp"
+#include "earshot/head/head_reader.hpp"
+#include "earshot/head/tracked_head.hpp"
 #include "earshot/pose_slot.hpp"
-#include "earshot/tracker/live/live_tracker.hpp"
-#include "earshot/tracker/live/source_spec.hpp"
+#include "openal_latency.hpp"
+#include "shim_listener.hpp"
 
 #define EARSHOT_EXPORT extern "C" __attribute__((visibility("default")))
 
@@ -125,6 +127,7 @@ struct ContextState {
   float orientation[6] = {0, 0, -1, 0, 1, 0};  // "at" then "up", OpenAL's default
   Quat rotation = earshot::kIdentityQuat;       // of `orientation`; identity if degenerate
   bool composable = true;                       // false: at/up degenerate, forwarded as given
+  double lead_s = 0.0;                          // its device's latency: how far ahead the head is predicted
   std::unordered_set<ALuint> stereo_sources;
   std::unordered_set<ALuint> mono_sources;   // have a mono buffer (candidates for Place::all)
   std::unordered_set<ALuint> placed_mono;    // moved from the listener to 1 m ahead
@@ -222,7 +225,7 @@ class Shim {
     if (channels == 2) {
       if (s->stereo_sources.insert(source).second && verbose())
         std::fprintf(stderr, "%sstereo source %u placed as two speakers at +-30 degrees\n", kPrefix, source);
-      apply_stereo(source);
+      apply_stereo(source, heard_head(*s));
       s->mono_sources.erase(source);
     } else if (channels == 1) {
       s->stereo_sources.erase(source);
@@ -254,7 +257,7 @@ class Shim {
     if (d2 > 1e-6) return;
     s->placed_mono.insert(source);
     if (verbose()) std::fprintf(stderr, "%smono source %u at the listener placed 1 m ahead\n", kPrefix, source);
-    apply_mono(source);
+    apply_mono(source, heard_head(*s));
   }
 
   // The program placed the source itself: it is the program's again.
@@ -292,7 +295,9 @@ class Shim {
   ContextState* current_state() {
     ALCcontext* ctx = real().get_current_context();
     if (!ctx) return nullptr;
-    return &contexts_[ctx];
+    auto [it, fresh] = contexts_.try_emplace(ctx);
+    if (fresh) it->second.lead_s = earshot::openal::output_latency_s(real().get_contexts_device(ctx));
+    return &it->second;
   }
 
   void start_tracker_once() {
@@ -300,19 +305,13 @@ class Shim {
       const char* e = std::getenv("EARSHOT_OPENAL_TRACKER");
       const std::string spec = e && *e ? e : "wiimote";
       try {
-        earshot::tracker::SourceOptions options;
-        options.wait_for_remote = true;  // no remote yet: play on, keep looking
-        earshot::tracker::LiveConfig cfg;
-        cfg.keep_running_after_end = true;  // a replay that ends eases back to neutral
         if (const char* r = std::getenv("EARSHOT_OPENAL_RECENTER_AFTER"); r && *r)
           recenter_after_s_ = std::strtod(r, nullptr);
         started_ = std::chrono::steady_clock::now();
         // Under mu_: the first pose's callback waits until tracker_ is set.
         std::lock_guard lock(mu_);
-        tracker_ = std::make_unique<earshot::tracker::LiveTracker>(
-            earshot::tracker::make_frame_source(earshot::tracker::parse_source_spec(spec, "EARSHOT_OPENAL_TRACKER"),
-                                                options),
-            slot_, cfg, [this](const earshot::HeadPose& pose) { on_pose(pose); });
+        tracker_ = std::make_unique<earshot::head::TrackedHead>(
+            spec, slot_, "EARSHOT_OPENAL_TRACKER", [this](const earshot::HeadPose& pose) { on_pose(pose); });
         if (verbose()) std::fprintf(stderr, "%stracker \"%s\" started\n", kPrefix, spec.c_str());
       } catch (const std::exception& ex) {
         std::fprintf(stderr, "%scannot start the tracker \"%s\": %s; playing on without head tracking\n", kPrefix,
@@ -329,9 +328,7 @@ class Shim {
       recenter_after_s_ = 0;  // once
       if (tracker_) tracker_->recenter();
     }
-    head_position_ = pose.position;
-    head_rotation_ = pose.orientation;
-    head_yaw_ = earshot::ypr_from_quat(pose.orientation).yaw;
+    tracked_ = pose;
     if (real().set_thread_context) {
       for (auto& [ctx, state] : contexts_) {
         if (!real().set_thread_context(ctx)) continue;
@@ -343,58 +340,54 @@ class Shim {
     }
   }
 
+  // The tracked head as the next mix of the state's context will hear it. Under mu_.
+  [[nodiscard]] earshot::HeadPose heard_head(const ContextState& s) const {
+    return earshot::head::heard(tracked_, {.predict = true, .lead_s = s.lead_s}, earshot::head::steady_now_s());
+  }
+
   // The composed listener onto the calling thread's current context (= the
   // state's context). Under mu_.
   void apply(ContextState& s) {
-    float pos[3];
-    float ori[6];
+    earshot::HeadPose program;
+    program.position = {s.position[0], s.position[1], s.position[2]};
+    program.orientation = s.rotation;
+    earshot::preload::ShimListener l = earshot::preload::shim_listener(program, tracked_, s.lead_s, earshot::head::steady_now_s());
     if (!s.composable) {
-      std::memcpy(pos, s.position, sizeof pos);
-      std::memcpy(ori, s.orientation, sizeof ori);
-    } else {
-      const Quat q = earshot::multiply(s.rotation, head_rotation_);
-      const Vec3 offset = earshot::rotate(s.rotation, head_position_);
-      const Vec3 at = earshot::rotate(q, {0, 0, -1}), up = earshot::rotate(q, {0, 1, 0});
-      for (int i = 0; i < 3; ++i) {
-        pos[i] = static_cast<float>(s.position[i] + offset[static_cast<std::size_t>(i)]);
-        ori[i] = static_cast<float>(at[static_cast<std::size_t>(i)]);
-        ori[3 + i] = static_cast<float>(up[static_cast<std::size_t>(i)]);
-      }
+      std::memcpy(l.position, s.position, sizeof l.position);
+      std::memcpy(l.orientation, s.orientation, sizeof l.orientation);
     }
-    real().listenerfv(AL_POSITION, pos);
-    real().listenerfv(AL_ORIENTATION, ori);
-    for (ALuint src : s.stereo_sources) apply_stereo(src);
-    for (ALuint src : s.placed_mono) apply_mono(src);
+    real().listenerfv(AL_POSITION, l.position);
+    real().listenerfv(AL_ORIENTATION, l.orientation);
+    for (ALuint src : s.stereo_sources) apply_stereo(src, l.head);
+    for (ALuint src : s.placed_mono) apply_mono(src, l.head);
   }
 
   // 1 m ahead of the program's listener, as seen from the head (relative to
   // the effective listener P H at p + P h: H^-1 ((0, 0, -1) - h)). Under mu_.
-  void apply_mono(ALuint source) const {
+  static void apply_mono(ALuint source, const earshot::HeadPose& head) {
     const Vec3 v = earshot::rotate_inverse(
-        head_rotation_, Vec3{-head_position_[0], -head_position_[1], -1.0 - head_position_[2]});
+        head.orientation, Vec3{-head.position[0], -head.position[1], -1.0 - head.position[2]});
     real().sourcei(source, AL_SOURCE_RELATIVE, AL_TRUE);
     real().source3f(source, AL_POSITION, static_cast<float>(v[0]), static_cast<float>(v[1]), static_cast<float>(v[2]));
   }
 
   // AL_STEREO_ANGLES are relative to the head (anticlockwise, radians): the
   // room's +-30 degree speakers sit at +-30 minus the head's yaw. Under mu_.
-  void apply_stereo(ALuint source) const {
-    const float angles[2] = {static_cast<float>(std::numbers::pi / 6 - head_yaw_),
-                             static_cast<float>(-std::numbers::pi / 6 - head_yaw_)};
+  static void apply_stereo(ALuint source, const earshot::HeadPose& head) {
+    const double yaw = earshot::ypr_from_quat(head.orientation).yaw;
+    const float angles[2] = {static_cast<float>(std::numbers::pi / 6 - yaw), static_cast<float>(-std::numbers::pi / 6 - yaw)};
     real().sourcefv(source, AL_STEREO_ANGLES, angles);
   }
 
   std::mutex mu_;  // everything below but tracker_ and the once flag
   std::unordered_map<ALCcontext*, ContextState> contexts_;
-  Vec3 head_position_{0, 0, 0};
-  Quat head_rotation_ = earshot::kIdentityQuat;
-  double head_yaw_ = 0;
+  earshot::HeadPose tracked_;  // the newest published head pose
   Place place_ = Place::stereo;  // set in the constructor only
   double recenter_after_s_ = 0;
   std::chrono::steady_clock::time_point started_{};
   std::once_flag tracker_once_;
   earshot::PoseSlot slot_;
-  std::unique_ptr<earshot::tracker::LiveTracker> tracker_;  // set once under mu_; reset unlocked at exit
+  std::unique_ptr<earshot::head::TrackedHead> tracker_;  // set once under mu_; reset unlocked at exit
 };
 
 // This library's own handle, for dlopen("libopenal.so...") (below).

@@ -34,6 +34,7 @@ namespace {
 
 constexpr double kRate = 48000.0;
 constexpr std::uint32_t kFrames = 256;
+constexpr std::uint32_t kMaxFrames = 4096;  // the longest run_frames
 constexpr const char* kUri = "urn:earshot:lv2:panner";
 
 enum Port : std::uint32_t {
@@ -116,14 +117,19 @@ class Host {
 
   /// One run() of kFrames; input noise; the output appended to `out`.
   void run(std::vector<float>* out_left = nullptr, std::vector<float>* out_right = nullptr) {
-    for (auto& x : in_) x = noise_(rng_);
+    run_frames(kFrames);
+    if (out_left) out_left->insert(out_left->end(), left_.begin(), left_.begin() + kFrames);
+    if (out_right) out_right->insert(out_right->end(), right_.begin(), right_.begin() + kFrames);
+  }
+
+  /// One run() of `frames` (at most kMaxFrames), input noise.
+  void run_frames(std::uint32_t frames) {
+    for (std::uint32_t i = 0; i < frames; ++i) in_[i] = noise_(rng_);
     auto* n = reinterpret_cast<LV2_Atom_Sequence*>(notify_.data());
     n->atom.type = 0;
     n->atom.size = static_cast<std::uint32_t>(notify_.size() * sizeof(notify_[0]) - sizeof(LV2_Atom));
-    desc_->run(handle_, kFrames);
+    desc_->run(handle_, frames);
     clear_control();
-    if (out_left) out_left->insert(out_left->end(), left_.begin(), left_.end());
-    if (out_right) out_right->insert(out_right->end(), right_.begin(), right_.end());
   }
 
   /// Puts a patch:Set of `property` to a path or string into the next run().
@@ -237,7 +243,7 @@ class Host {
   std::array<const LV2_Feature*, 3> features_{};
   Queue jobs_, answers_;
   std::array<float, kPortCount> controls_{};
-  std::array<float, kFrames> in_{}, left_{}, right_{};
+  std::array<float, kMaxFrames> in_{}, left_{}, right_{};
   std::array<std::uint64_t, 1024> control_{}, notify_{};  // 8-byte aligned atom buffers
   std::mt19937 rng_{3};
   std::normal_distribution<float> noise_{0.0f, 0.1f};
@@ -350,6 +356,69 @@ TEST(Lv2Plugin, TrackingFollowsTheSharedSimulatedHead) {
   host.control(kTracking) = 0.0f;
   host.run();
   host.work();
+}
+
+// Two instances on the one shared simulated head, run back to back: one
+// with short blocks, one with long ones. Each carries the head on to when
+// its own block is heard, so the long-block instance is ahead of the other
+// by the head's turn over the difference of their leads (2048 - 64 frames,
+// 41 ms at 48 kHz). Without prediction both would show the same head.
+TEST(Lv2Plugin, TheTrackedHeadIsPredictedToWhenTheBlockIsHeard) {
+  Host shortb(plugin_library()), longb(plugin_library());
+  ASSERT_TRUE(shortb.instantiate());
+  ASSERT_TRUE(longb.instantiate());
+  for (Host* h : {&shortb, &longb}) {
+    h->control(kTracking) = 1.0f;
+    h->control(kTrackerSource) = 1.0f;  // sim
+    h->run();
+    h->work();
+    h->deliver();
+  }
+  constexpr std::uint32_t kShort = 64, kLong = 2048;
+  const double lead_gap_s = static_cast<double>(kLong - kShort) / kRate;
+  double sxy = 0.0, sxx = 0.0;  // regression through 0 of the gap on the turn rate x lead gap
+  int agree = 0, moving = 0;
+  double last_yaw = 0.0;
+  auto last_t = std::chrono::steady_clock::now();
+  for (int i = 0; i < 400; ++i) {  // about 4 s of the simulator's walk
+    shortb.run_frames(kShort);
+    longb.run_frames(kLong);
+    const auto t = std::chrono::steady_clock::now();
+    const double yaw = shortb.control(kHeadYaw), ahead = longb.control(kHeadYaw);
+    const double dt = std::chrono::duration<double>(t - last_t).count();
+    if (i > 0 && dt > 0.0) {
+      double turn = yaw - last_yaw;  // degrees since the last step
+      if (turn > 180) turn -= 360;
+      if (turn < -180) turn += 360;
+      const double rate = turn / dt;            // deg/s, as the short-block instance heard it
+      double gap = ahead - yaw;
+      if (gap > 180) gap -= 360;
+      if (gap < -180) gap += 360;
+      const double x = rate * lead_gap_s;       // the gap prediction makes
+      sxy += x * gap;
+      sxx += x * x;
+      if (std::abs(rate) > 20.0) {
+        ++moving;
+        if ((gap > 0) == (rate > 0)) ++agree;
+      }
+    }
+    last_yaw = yaw;
+    last_t = t;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GT(moving, 20) << "the simulated head hardly turned";
+  EXPECT_GT(agree, moving * 3 / 4) << agree << " of " << moving << " moving steps lead in the turn's direction";
+  ASSERT_GT(sxx, 0.0);
+  const double slope = sxy / sxx;  // 1: the gap is the turn over the lead gap
+  // Below 1: the filter's velocity lags the turn a little, and a pose older than
+  // 15 ms is carried at most kMaxHeadPredictionS (60 ms) ahead.
+  EXPECT_GT(slope, 0.25) << "the long-block instance is not ahead of the short-block one";
+  EXPECT_LT(slope, 1.6);
+  for (Host* h : {&shortb, &longb}) {
+    h->control(kTracking) = 0.0f;
+    h->run();
+    h->work();
+  }
 }
 
 TEST(Lv2Plugin, StateRestoresTheSetAndTheTrackerSpec) {

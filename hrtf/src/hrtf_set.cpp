@@ -139,51 +139,51 @@ std::span<const float> HrtfSet::measured_hrir(std::size_t i, Ear ear) const {
   return {hrirs_.data() + (2 * i + static_cast<std::size_t>(ear)) * hrir_length_, hrir_length_};
 }
 
-HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
+namespace {
+
+/// The file's size, after the checks that need nothing but its name and the
+/// render rate; then its HDF5 signature and the sizes its object headers
+/// declare (sofa_precheck.hpp), before libmysofa sees it.
+void precheck_file(const std::filesystem::path& path, double sample_rate) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) bad(path, "file not found");
   if (!std::filesystem::is_regular_file(path, ec)) bad(path, "not a regular file");
   const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
   if (ec || bytes == 0) bad(path, "empty file");
-  if (bytes > kMaxFileBytes)
-    bad(path, "file of " + std::to_string(bytes) + " bytes, more than the " + std::to_string(kMaxFileBytes) +
+  if (bytes > HrtfSet::kMaxFileBytes)
+    bad(path, "file of " + std::to_string(bytes) + " bytes, more than the " + std::to_string(HrtfSet::kMaxFileBytes) +
                   " a SOFA set is read from");
   if (!(sample_rate >= 8000.0 && sample_rate <= 192000.0))
     bad(path, "unsupported render rate " + std::to_string(sample_rate) + " Hz (8000-192000)");
-  {
-    // SOFA is HDF5: check the signature, then the sizes its object headers
-    // declare (sofa_precheck.hpp), before handing the file to libmysofa.
-    std::ifstream in(path, std::ios::binary);
-    std::vector<std::uint8_t> file(static_cast<std::size_t>(bytes));
-    in.read(reinterpret_cast<char*>(file.data()), static_cast<std::streamsize>(file.size()));
-    static constexpr std::array<std::uint8_t, 8> kHdf5{0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
-    if (!in || file.size() < kHdf5.size() || !std::equal(kHdf5.begin(), kHdf5.end(), file.begin()))
-      bad(path, "not a SOFA file (no HDF5 signature)");
-    if (const std::string p = detail::sofa_header_problem(file, kMaxSamples); !p.empty()) bad(path, p);
-  }
-  int err = 0;
-  SofaPtr sofa(mysofa_load(path.c_str(), &err));
-  if (!sofa || err != MYSOFA_OK) bad(path, mysofa_error_text(err));
-  MYSOFA_HRTF* h = sofa.get();
+  std::ifstream in(path, std::ios::binary);
+  std::vector<std::uint8_t> file(static_cast<std::size_t>(bytes));
+  in.read(reinterpret_cast<char*>(file.data()), static_cast<std::streamsize>(file.size()));
+  static constexpr std::array<std::uint8_t, 8> kHdf5{0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  if (!in || file.size() < kHdf5.size() || !std::equal(kHdf5.begin(), kHdf5.end(), file.begin()))
+    bad(path, "not a SOFA file (no HDF5 signature)");
+  if (const std::string p = detail::sofa_header_problem(file, HrtfSet::kMaxSamples); !p.empty()) bad(path, p);
+}
+
+/// The convention and the dimensions, before anything that grows with them
+/// (mysofa_check included: it walks the arrays).
+void check_dimensions(const std::filesystem::path& path, MYSOFA_HRTF* h) {
   char conv_name[] = "SOFAConventions";
   const char* conv = mysofa_getAttribute(h->attributes, conv_name);
   if (!conv || std::strcmp(conv, "SimpleFreeFieldHRIR") != 0)
     bad(path, std::string("SOFA convention is '") + (conv ? conv : "(none)") +
                   "', expected 'SimpleFreeFieldHRIR'");
-  // The dimensions, before anything that grows with them (mysofa_check
-  // included: it walks the arrays).
   if (h->R != 2) bad(path, "dimension R (receivers) is " + std::to_string(h->R) + ", expected 2 (two ears)");
   if (h->E != 1) bad(path, "dimension E (emitters) is " + std::to_string(h->E) + ", expected 1");
   if (h->M < 4) bad(path, "dimension M (measurements) is " + std::to_string(h->M) + ", fewer than 4");
-  if (h->M > kMaxMeasurements)
+  if (h->M > HrtfSet::kMaxMeasurements)
     bad(path, "dimension M (measurements) is " + std::to_string(h->M) + ", more than " +
-                  std::to_string(kMaxMeasurements));
+                  std::to_string(HrtfSet::kMaxMeasurements));
   if (h->N == 0) bad(path, "dimension N (taps) is 0: empty impulse responses");
-  if (h->N > kMaxLength)
-    bad(path, "dimension N (taps) is " + std::to_string(h->N) + ", more than " + std::to_string(kMaxLength));
-  if (std::size_t{h->M} * h->R * h->N > kMaxSamples)
+  if (h->N > HrtfSet::kMaxLength)
+    bad(path, "dimension N (taps) is " + std::to_string(h->N) + ", more than " + std::to_string(HrtfSet::kMaxLength));
+  if (std::size_t{h->M} * h->R * h->N > HrtfSet::kMaxSamples)
     bad(path, "M x R x N = " + std::to_string(std::size_t{h->M} * h->R * h->N) + " samples, more than " +
-                  std::to_string(kMaxSamples));
+                  std::to_string(HrtfSet::kMaxSamples));
   // libmysofa checks the attributes, not that each array holds what the
   // dimensions say (found by fuzz_sofa: a Data.IR of one value for M x R x N).
   const auto holds = [](const MYSOFA_ARRAY& a, std::size_t n) { return a.values && a.elements == n; };
@@ -193,7 +193,12 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (!holds(h->SourcePosition, std::size_t{h->M} * 3))
     bad(path, "SourcePosition holds " + std::to_string(h->SourcePosition.elements) + " values, not M x 3 = " +
                   std::to_string(std::size_t{h->M} * 3));
-  err = mysofa_check(h);
+}
+
+/// libmysofa's check, with receiver 0 made the left ear where the file has
+/// the right ear first; the file's rate; Cartesian positions; finite data.
+double check_contents(const std::filesystem::path& path, MYSOFA_HRTF* h) {
+  int err = mysofa_check(h);
   float* ears = h->ReceiverPosition.values;
   if (err == MYSOFA_INVALID_RECEIVER_POSITIONS && h->ReceiverPosition.elements >= 6 && ears[1] < 0.0f &&
       ears[4] > 0.0f) {
@@ -220,133 +225,155 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   if (!(file_rate >= 8000.0 && file_rate <= 192000.0))
     bad(path, "unsupported sampling rate " + std::to_string(file_rate) + " Hz in the file");
   mysofa_tocartesian(h);
-
   for (std::size_t i = 0; i < std::size_t{h->R} * h->M * h->N; ++i)
     if (!std::isfinite(h->DataIR.values[i])) bad(path, "impulse responses hold non-finite samples");
-  // A set measured at several distances keeps every shell, farthest first
-  // (the far field the renderer models for any source beyond it; nearer
-  // shells serve nearer sources). Shells are told apart by a gap of more
-  // than 10% between sorted radii, so a single distance measured with some
-  // scatter stays one shell.
-  std::vector<std::uint32_t> keep;  // the measurements used: shell by shell, file order within one
-  std::vector<HrtfSet::ShellData> shells;
-  {
-    std::vector<double> radius(h->M);
-    for (std::size_t m = 0; m < h->M; ++m) {
-      const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
-      radius[m] = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
-      if (!(radius[m] > 0.0) || !std::isfinite(radius[m]))
-        bad(path, "source position " + std::to_string(m) + " is not a direction");
-    }
-    std::vector<double> sorted = radius;
-    std::sort(sorted.begin(), sorted.end());
-    std::vector<double> inner{sorted.front()};  // each shell's nearest radius, ascending
-    for (std::size_t i = 1; i < sorted.size(); ++i)
-      if (sorted[i] > 1.1 * sorted[i - 1]) inner.push_back(sorted[i]);
-    for (std::size_t g = inner.size(); g-- > 0;) {
-      const double hi = g + 1 < inner.size() ? inner[g + 1] : std::numeric_limits<double>::infinity();
-      std::vector<std::uint32_t> members;
-      double sum = 0.0;
-      for (std::uint32_t m = 0; m < h->M; ++m)
-        if (radius[m] >= inner[g] && radius[m] < hi) members.push_back(m), sum += radius[m];
-      const bool farthest = shells.empty();
-      if (members.size() < 4) {
-        if (farthest)
-          bad(path, "the farthest measurement distance has " + std::to_string(members.size()) +
-                        " measurements, fewer than 4");
-        continue;  // a nearer shell too sparse to blend: dropped
-      }
-      std::vector<Vec3> unit(members.size());
-      for (std::size_t k = 0; k < members.size(); ++k) {
-        const float* p = h->SourcePosition.values + 3 * std::size_t{members[k]};
-        unit[k] = {p[0] / radius[members[k]], p[1] / radius[members[k]], p[2] / radius[members[k]]};
-      }
-      HrtfSet::ShellData shell;
-      try {
-        shell.triangulation = std::make_shared<const SphereTriangulation>(unit);
-      } catch (const std::invalid_argument& e) {
-        if (farthest) bad(path, std::string("cannot triangulate the measured directions: ") + e.what());
-        continue;  // a nearer shell that is a ring or a hemisphere: dropped
-      }
-      shell.info = {sum / static_cast<double>(members.size()), keep.size(), members.size()};
-      keep.insert(keep.end(), members.begin(), members.end());
-      shells.push_back(std::move(shell));
-    }
-  }
+  return file_rate;
+}
 
-  HrtfSet set;
-  set.rate_ = sample_rate;
-  const std::size_t M = keep.size();
-  const auto file_ir = [&](std::size_t i) {  // response i = 2 m + ear of the kept ones
-    return std::span<const float>(h->DataIR.values + (2 * std::size_t{keep[i / 2]} + i % 2) * h->N, h->N);
-  };
-  if (std::abs(file_rate - sample_rate) > 0.5) {
+}  // namespace
+
+/// An opened, checked SOFA file and which of its measurements are kept.
+struct HrtfSet::Loading {
+  std::filesystem::path path;
+  MYSOFA_HRTF* h = nullptr;
+  double file_rate = 0.0;
+  std::vector<std::uint32_t> keep;  // the measurements used: shell by shell, file order within one
+  std::vector<ShellData> shells;    // farthest first; their info indexes `keep`
+
+  [[nodiscard]] const float* position(std::size_t m) const {  // of kept measurement m: x front, y left, z up
+    return h->SourcePosition.values + 3 * std::size_t{keep[m]};
+  }
+  [[nodiscard]] std::span<const float> response(std::size_t i) const {  // i = 2 m + ear of the kept ones
+    return {h->DataIR.values + (2 * std::size_t{keep[i / 2]} + i % 2) * h->N, h->N};
+  }
+};
+
+// A set measured at several distances keeps every shell, farthest first
+// (the far field the renderer models for any source beyond it; nearer
+// shells serve nearer sources). Shells are told apart by a gap of more
+// than 10% between sorted radii, so a single distance measured with some
+// scatter stays one shell.
+void HrtfSet::find_shells(Loading& f) {
+  MYSOFA_HRTF* h = f.h;
+  std::vector<double> radius(h->M);
+  for (std::size_t m = 0; m < h->M; ++m) {
+    const float* p = h->SourcePosition.values + 3 * m;  // SOFA cartesian: x front, y left, z up
+    radius[m] = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
+    if (!(radius[m] > 0.0) || !std::isfinite(radius[m]))
+      bad(f.path, "source position " + std::to_string(m) + " is not a direction");
+  }
+  std::vector<double> sorted = radius;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<double> inner{sorted.front()};  // each shell's nearest radius, ascending
+  for (std::size_t i = 1; i < sorted.size(); ++i)
+    if (sorted[i] > 1.1 * sorted[i - 1]) inner.push_back(sorted[i]);
+  for (std::size_t g = inner.size(); g-- > 0;) {
+    const double hi = g + 1 < inner.size() ? inner[g + 1] : std::numeric_limits<double>::infinity();
+    std::vector<std::uint32_t> members;
+    double sum = 0.0;
+    for (std::uint32_t m = 0; m < h->M; ++m)
+      if (radius[m] >= inner[g] && radius[m] < hi) members.push_back(m), sum += radius[m];
+    const bool farthest = f.shells.empty();
+    if (members.size() < 4) {
+      if (farthest)
+        bad(f.path, "the farthest measurement distance has " + std::to_string(members.size()) +
+                        " measurements, fewer than 4");
+      continue;  // a nearer shell too sparse to blend: dropped
+    }
+    std::vector<Vec3> unit(members.size());
+    for (std::size_t k = 0; k < members.size(); ++k) {
+      const float* p = h->SourcePosition.values + 3 * std::size_t{members[k]};
+      unit[k] = {p[0] / radius[members[k]], p[1] / radius[members[k]], p[2] / radius[members[k]]};
+    }
+    ShellData shell;
+    try {
+      shell.triangulation = std::make_shared<const SphereTriangulation>(unit);
+    } catch (const std::invalid_argument& e) {
+      if (farthest) bad(f.path, std::string("cannot triangulate the measured directions: ") + e.what());
+      continue;  // a nearer shell that is a ring or a hemisphere: dropped
+    }
+    shell.info = {sum / static_cast<double>(members.size()), f.keep.size(), members.size()};
+    f.keep.insert(f.keep.end(), members.begin(), members.end());
+    f.shells.push_back(std::move(shell));
+  }
+}
+
+// The kept responses at the render rate, scaled so that white noise from
+// straight ahead keeps its level; their directions.
+void HrtfSet::read_responses(const Loading& f) {
+  const std::size_t M = f.keep.size();
+  const std::size_t file_n = f.h->N;
+  if (std::abs(f.file_rate - rate_) > 0.5) {
     // Our own resampler rather than mysofa_resample: one kernel per output
     // sample serves every response (a fifth of the time), and Data.Delay is
-    // left in the file's samples, rescaled once below (mysofa_resample
-    // rescales it too, so it was scaled twice).
-    const std::size_t out_n = IrResampler::out_length_for(file_rate, sample_rate, h->N);
+    // left in the file's samples, rescaled once (file_delay below;
+    // mysofa_resample rescales it too, so it was scaled twice).
+    const std::size_t out_n = IrResampler::out_length_for(f.file_rate, rate_, file_n);
     if (2 * M * out_n > kMaxSamples)
-      bad(path, "M x R x N at the render rate = " + std::to_string(2 * M * out_n) + " samples, more than " +
-                    std::to_string(kMaxSamples) + " (N = " + std::to_string(h->N) + " taps at " +
-                    std::to_string(file_rate) + " Hz become " + std::to_string(out_n) + ")");
-    const IrResampler rs(file_rate, sample_rate, h->N);
-    set.hrirs_.assign(2 * M * rs.out_length(), 0.0f);
+      bad(f.path, "M x R x N at the render rate = " + std::to_string(2 * M * out_n) + " samples, more than " +
+                      std::to_string(kMaxSamples) + " (N = " + std::to_string(file_n) + " taps at " +
+                      std::to_string(f.file_rate) + " Hz become " + std::to_string(out_n) + ")");
+    const IrResampler rs(f.file_rate, rate_, file_n);
+    hrirs_.assign(2 * M * rs.out_length(), 0.0f);
     for (std::size_t i = 0; i < 2 * M; ++i)
-      rs.process(file_ir(i), std::span<float>(set.hrirs_.data() + i * rs.out_length(), rs.out_length()));
-    set.length_ = rs.out_length();
+      rs.process(f.response(i), std::span<float>(hrirs_.data() + i * rs.out_length(), rs.out_length()));
+    length_ = rs.out_length();
   } else {
-    set.hrirs_.reserve(2 * M * h->N);
-    for (std::size_t i = 0; i < 2 * M; ++i) set.hrirs_.insert(set.hrirs_.end(), file_ir(i).begin(), file_ir(i).end());
-    set.length_ = h->N;
+    hrirs_.reserve(2 * M * file_n);
+    for (std::size_t i = 0; i < 2 * M; ++i) hrirs_.insert(hrirs_.end(), f.response(i).begin(), f.response(i).end());
+    length_ = file_n;
   }
-  const std::size_t N = set.length_;
-  set.hrir_length_ = N;
-  set.dirs_.resize(M);
+  const std::size_t N = length_;
+  hrir_length_ = N;
   {
-    // Normalise so that white noise from straight ahead keeps its level:
-    // the frontal measurement's mean ear energy becomes 1. One scale for the
+    // The frontal measurement's mean ear energy becomes 1. One scale for the
     // whole set, so every interaural cue is kept.
     std::size_t front = 0;
     double best = -2.0;
-    for (std::size_t m = 0; m < shells.front().info.count; ++m) {
-      const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};
+    for (std::size_t m = 0; m < f.shells.front().info.count; ++m) {
+      const float* p = f.position(m);
       const double r = std::sqrt(double(p[0]) * p[0] + double(p[1]) * p[1] + double(p[2]) * p[2]);
       if (r > 0.0 && p[0] / r > best) best = p[0] / r, front = m;
     }
     double e = 0.0;
-    for (std::size_t i = 0; i < 2 * N; ++i) e += double(set.hrirs_[2 * front * N + i]) * set.hrirs_[2 * front * N + i];
+    for (std::size_t i = 0; i < 2 * N; ++i) e += double(hrirs_[2 * front * N + i]) * hrirs_[2 * front * N + i];
     const double scale = e > 0.0 ? std::sqrt(2.0 / e) : 1.0;
-    for (float& v : set.hrirs_) v = static_cast<float>(v * scale);
+    for (float& v : hrirs_) v = static_cast<float>(v * scale);
   }
-  set.delays_.resize(M);
+  dirs_.resize(M);
   for (std::size_t m = 0; m < M; ++m) {
-    const float* p = h->SourcePosition.values + 3 * std::size_t{keep[m]};  // x front, y left, z up
+    const float* p = f.position(m);
     const double x = p[0], y = p[1], z = p[2];
-    const double r = std::sqrt(x * x + y * y + z * z);  // > 0, checked above
-    set.dirs_[m] = {std::atan2(y, x), std::asin(z / r)};
+    const double r = std::sqrt(x * x + y * y + z * z);  // > 0, checked in find_shells
+    dirs_[m] = {std::atan2(y, x), std::asin(z / r)};
   }
+}
+
+// Each ear's filter is its HRIR read from `margin` samples before its
+// (fractional) onset on, and the delay is that shift: filter + delay give
+// back the measured HRIR, and every filter has its onset at the same place,
+// so blending neighbours adds aligned responses, not combs. The margin
+// kept before each onset is one for the whole set (so every filter has its
+// onset at the same place) and long enough that no response loses what
+// comes before its onset: band-limited measurements ring before it
+// (pre-ringing), and a filter cut at two samples before the onset dropped
+// that (error energy -21 dB on a synthetic set; see
+// tests/unit/hrtf/test_sofa_variety.cpp). Each shell's own flight time
+// (its earliest arrival) is latency, not a cue: removed from its delays
+// (shell 0's is removed_delay_s()).
+void HrtfSet::split_onsets(const Loading& f) {
+  const std::size_t M = f.keep.size(), N = hrir_length_;
   // Data.Delay (samples at the file's rate) adds to each ear: 1 x R or M x R.
-  auto file_delay = [&](std::size_t m, std::size_t ear) -> double {
-    const auto& d = h->DataDelay;
-    if (d.elements == 2) return d.values[ear] * sample_rate / file_rate;
-    if (d.elements == 2 * std::size_t{h->M}) return d.values[2 * std::size_t{keep[m]} + ear] * sample_rate / file_rate;
+  const auto file_delay = [&](std::size_t m, std::size_t ear) -> double {
+    const auto& d = f.h->DataDelay;
+    if (d.elements == 2) return d.values[ear] * rate_ / f.file_rate;
+    if (d.elements == 2 * std::size_t{f.h->M}) return d.values[2 * std::size_t{f.keep[m]} + ear] * rate_ / f.file_rate;
     return 0.0;
   };
-  // Each ear's filter is its HRIR read from `margin` samples before its
-  // (fractional) onset on, and the delay is that shift: filter + delay give
-  // back the measured HRIR, and every filter has its onset at the same
-  // place, so blending neighbours adds aligned responses, not combs.
-  // The margin kept before each onset is one for the whole set (so every
-  // filter has its onset at the same place) and long enough that no
-  // response loses what comes before its onset: band-limited measurements
-  // ring before it (pre-ringing), and a filter cut at two samples before
-  // the onset dropped that (error energy -21 dB on a synthetic set; see
-  // tests/unit/hrtf/test_sofa_variety.cpp).
   std::vector<double> onsets(2 * M);
   double margin = 2.0;
   for (std::size_t i = 0; i < 2 * M; ++i) {
-    const std::span<const float> hrir(set.hrirs_.data() + i * N, N);
+    const std::span<const float> hrir(hrirs_.data() + i * N, N);
     onsets[i] = onset_of(hrir);
     margin = std::max(margin, onsets[i] - static_cast<double>(first_audible(hrir)));
   }
@@ -355,44 +382,48 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
   // by what such a shift pushes past their end, so no tail is cut either.
   const double earliest = *std::min_element(onsets.begin(), onsets.end());
   const std::size_t L = N + static_cast<std::size_t>(std::ceil(std::max(0.0, margin - earliest)));
-  set.length_ = L;
-  set.filters_.assign(2 * M * L, 0.0f);
+  length_ = L;
+  filters_.assign(2 * M * L, 0.0f);
   std::vector<std::array<double, 2>> raw(M);
   for (std::size_t m = 0; m < M; ++m)
     for (std::size_t ear = 0; ear < 2; ++ear) {
-      const std::span<const float> hrir(set.hrirs_.data() + (2 * m + ear) * N, N);
+      const std::span<const float> hrir(hrirs_.data() + (2 * m + ear) * N, N);
       const double shift = onsets[2 * m + ear] - margin;
-      shift_earlier(hrir, shift, std::span<float>(set.filters_.data() + (2 * m + ear) * L, L));
+      shift_earlier(hrir, shift, std::span<float>(filters_.data() + (2 * m + ear) * L, L));
       raw[m][ear] = shift + file_delay(m, ear);
     }
-  // Each shell's own flight time (its earliest arrival) is latency, not a
-  // cue: removed from its delays (shell 0's is removed_delay_s()).
-  set.energies_.resize(M);
-  for (std::size_t s = 0; s < shells.size(); ++s) {
-    const auto& info = shells[s].info;
+  delays_.resize(M);
+  for (std::size_t s = 0; s < f.shells.size(); ++s) {
+    const auto& info = f.shells[s].info;
     double min_delay = std::numeric_limits<double>::infinity();
     for (std::size_t m = info.first; m < info.first + info.count; ++m) min_delay = std::min({min_delay, raw[m][0], raw[m][1]});
-    if (s == 0) set.removed_delay_s_ = min_delay / sample_rate;
+    if (s == 0) removed_delay_s_ = min_delay / rate_;
     for (std::size_t m = info.first; m < info.first + info.count; ++m)
-      set.delays_[m] = {(raw[m][0] - min_delay) / sample_rate, (raw[m][1] - min_delay) / sample_rate};
+      delays_[m] = {(raw[m][0] - min_delay) / rate_, (raw[m][1] - min_delay) / rate_};
   }
+}
+
+// Each filter's energy per ear, and each triangle's table of its three
+// filters' inner products (each pair of measurements, a vertex with itself
+// or an edge shared by two triangles, multiplied out once).
+void HrtfSet::tabulate_energies(std::vector<ShellData>& shells) {
+  const std::size_t M = dirs_.size();
+  energies_.resize(M);
   for (std::size_t m = 0; m < M; ++m) {
     for (std::size_t ear = 0; ear < 2; ++ear) {
       double e = 0.0;
-      for (float v : set.filter(m, static_cast<Ear>(ear))) e += double(v) * v;
-      set.energies_[m][ear] = std::max(e, 1e-30);  // log-safe for a silent ear
+      for (float v : filter(m, static_cast<Ear>(ear))) e += double(v) * v;
+      energies_[m][ear] = std::max(e, 1e-30);  // log-safe for a silent ear
     }
-    set.log_energies_.push_back({std::log(set.energies_[m][0]), std::log(set.energies_[m][1])});
+    log_energies_.push_back({std::log(energies_[m][0]), std::log(energies_[m][1])});
   }
-  // Each pair of measurements (a vertex with itself, or an edge shared by two
-  // triangles) is multiplied out once.
   std::unordered_map<std::uint64_t, std::array<double, 2>> pair_dots;
   const auto pair_dot = [&](std::uint32_t i, std::uint32_t j) {
     const std::uint64_t key = (std::uint64_t{std::min(i, j)} << 32) | std::max(i, j);
     auto [it, fresh] = pair_dots.try_emplace(key);
     if (fresh)
       for (std::size_t ear = 0; ear < 2; ++ear)
-        it->second[ear] = detail::dot_double(set.filter(i, static_cast<Ear>(ear)), set.filter(j, static_cast<Ear>(ear)));
+        it->second[ear] = detail::dot_double(filter(i, static_cast<Ear>(ear)), filter(j, static_cast<Ear>(ear)));
     return it->second;
   };
   for (auto& shell : shells) {
@@ -408,7 +439,26 @@ HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
       }
     }
   }
-  set.shells_ = std::move(shells);
+}
+
+HrtfSet HrtfSet::load(const std::filesystem::path& path, double sample_rate) {
+  precheck_file(path, sample_rate);
+  int err = 0;
+  SofaPtr sofa(mysofa_load(path.c_str(), &err));
+  if (!sofa || err != MYSOFA_OK) bad(path, mysofa_error_text(err));
+  Loading f;
+  f.path = path;
+  f.h = sofa.get();
+  check_dimensions(path, f.h);
+  f.file_rate = check_contents(path, f.h);
+  find_shells(f);
+
+  HrtfSet set;
+  set.rate_ = sample_rate;
+  set.read_responses(f);
+  set.split_onsets(f);
+  set.tabulate_energies(f.shells);
+  set.shells_ = std::move(f.shells);
   set.set_filter_blend(FilterBlend::floored);
   return set;
 }

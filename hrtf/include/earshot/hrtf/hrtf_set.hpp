@@ -284,6 +284,13 @@ class HrtfSet {
   };
   std::vector<ShellData> shells_;  // farthest first
   FilterBlend blend_ = FilterBlend::floored;
+
+  // The steps of load(), in order (hrtf_set.cpp).
+  struct Loading;                                       // the checked file and what is kept of it
+  static void find_shells(Loading& f);                  // the measurements kept, by distance
+  void read_responses(const Loading& f);                // hrirs_ at the render rate, scaled; dirs_
+  void split_onsets(const Loading& f);                  // filters_ and delays_
+  void tabulate_energies(std::vector<ShellData>& shells);  // energies_ and the Gram tables
   double removed_delay_s_ = 0.0;
   std::optional<double> parametric_radius_;
 };

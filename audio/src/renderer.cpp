@@ -7,15 +7,18 @@
 #include <stdexcept>
 
 namespace earshot::audio {
-namespace {
 
 /// A point as the listener's head sees it: the unit vector towards it in
 /// SOFA's frame (x ahead, y left, z up; zero when it is at the head) and
 /// its distance. No trigonometry.
-struct HeadFrame {
+struct Renderer::HeadFrame {
   Vec3 direction{0, 0, 0};
   double distance = 0.0;
 };
+
+namespace {
+
+using HeadFrame = Renderer::HeadFrame;
 
 /// The frame of a head-relative source: the listener at the origin, unturned.
 constexpr HeadPose kAtOrigin{};
@@ -190,7 +193,6 @@ std::span<float> Renderer::source_input(int i) {
 }
 
 void Renderer::render(std::span<float> left, std::span<float> right) {
-  const std::size_t B = cfg_.block;
   const HeadPose listener = listener_;  // the pose, read once per block
   const double listener_gain = listener_gain_;
   std::copy(ret_l_.begin(), ret_l_.end(), mix_l_.begin());
@@ -198,138 +200,159 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
   std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
   std::fill(ret_r_.begin(), ret_r_.end(), 0.0f);
   std::fill(send_.begin(), send_.end(), 0.0f);
-
   for (std::size_t s = 0; s < active_; ++s) {
-    Voice& v = *voices_[s];
-    if (s + 2 < active_) {  // the state of the source after next, read below one step from now
-      const auto* after = reinterpret_cast<const char*>(voices_[s + 2].get());
-      for (std::size_t b = 0; b < sizeof(Voice); b += 64) __builtin_prefetch(after + b, 0, 3);
-    }
-    if (s + 1 < active_) {
-      // With many sources, the next one's delayed samples and the bank
-      // lanes it panned into have left the nearer caches: ask for them now,
-      // so they arrive while this source renders.
-      const Voice& next = *voices_[s + 1];
-      if (next.ear_delay[0] >= 0.0) next.delay.prefetch(B, next.ear_delay[0], next.ear_delay[1]);
-      if (next.panned)
-        for (const std::uint32_t m : next.pans[1].index[0]) bank_->prefetch(m);
-    }
-    // A relative source's position is already head-relative.
-    const HeadPose& frame = v.state.relative ? kAtOrigin : listener;
-    HeadFrame hr = head_frame(v.state.position, frame);
-    if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
-    // Nearer than the farthest shell: the shell nearest the source, and
-    // each ear's own direction to it (near_field.hpp).
-    const bool near = near_field_ && !near_field_->empty() && hr.distance < hrtf_->shell(0).radius_m;
-    if (!near) {
-      if (hr.direction != v.direction || v.split) {
-        v.recipe = hrtf_->interpolate(hr.direction, v.triangle);
-        v.triangle = v.recipe.blend.triangle;
-        v.direction = hr.direction;
-        v.split = false;
-        v.shell = 0;
-      }
-    } else {
-      const std::size_t shell = hrtf_->nearest_shell(hr.distance);
-      const double R = hrtf_->shell(shell).radius_m, a = near_field_->head().radius_m;
-      const double r = std::max(hr.distance, near_field_->min_distance_m());
-      const Vec3 at{hr.direction[0] * r, hr.direction[1] * r, hr.direction[2] * r};
-      const Vec3 dl = parallax_direction(at, a, R), dr = parallax_direction(at, -a, R);
-      Voice::Near& n = *v.near;
-      if (dl != v.direction || !v.split || shell != v.shell) {
-        v.recipe = hrtf_->interpolate_in_shell(dl, shell, v.triangle);
-        v.triangle = v.recipe.blend.triangle;
-        v.direction = dl;
-      }
-      if (dr != n.direction_r || !v.split || shell != v.shell) {
-        n.recipe_r = hrtf_->interpolate_in_shell(dr, shell, n.triangle_r);
-        n.triangle_r = n.recipe_r.blend.triangle;
-        n.direction_r = dr;
-      }
-      v.split = true;
-      v.shell = shell;
-      // The sphere's path to each ear from the source, less its path from
-      // where that ear's HRTF was measured: the measured delays then give
-      // the near ITD (zero at the shell).
-      const hrtf::SphereHead& head = near_field_->head();
-      const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
-      n.shift = {hrtf::sphere_path_delay(r, std::acos(uy), head) -
-                     hrtf::sphere_path_delay(R, std::acos(std::clamp(dl[1], -1.0, 1.0)), head),
-                 hrtf::sphere_path_delay(r, std::acos(-uy), head) -
-                     hrtf::sphere_path_delay(R, std::acos(std::clamp(-dr[1], -1.0, 1.0)), head)};
-    }
-    const hrtf::Interpolation& right_recipe = v.split ? v.near->recipe_r : v.recipe;
-    // The ITD follows every move, through the delay lines.
-    hrtf::Delays d{v.recipe.delays.left_s, right_recipe.delays.right_s};
-    if (v.split) d = {d.left_s + v.near->shift[0], d.right_s + v.near->shift[1]};
-    // Propagation delay to the listener's ear now from where the source was
-    // when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
-    // the source's own motion changes the distance. Gliding the delay line
-    // by that gives OpenAL's Doppler shift, f (c - DF v_l) / (c - DF v_s).
-    double rate_src = 0.0;
-    if (v.moved_from) {
-      const Vec3& p = *v.moved_from;
-      const double dx = p[0] - frame.position[0], dy = p[1] - frame.position[1], dz = p[2] - frame.position[2];
-      rate_src = (hr.distance - std::sqrt(dx * dx + dy * dy + dz * dz)) * cfg_.sample_rate / static_cast<double>(B);
-    }
-    v.moved_from = v.state.position;
-    const double c = cfg_.speed_of_sound;
-    const double approach = std::max(cfg_.doppler_factor * rate_src, -0.5 * c);  // no sonic booms
-    const double prop = cfg_.doppler_factor * hr.distance / (c + approach) * cfg_.sample_rate;
-    // OpenAL's order: source gain x distance x cone, clamped to [min, max],
-    // then the listener's gain.
-    const Vec3& sp = v.state.position;
-    const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
-    const double attenuated =
-        v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
-    const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener_gain;
-    const double g0 = v.gain < 0.0 ? g : v.gain;
-    v.gain = g;
-
-    v.air.update(hr.distance, v.state.air_absorption);
-    v.air.process(v.input);
-    // Each ear hears the source late by the propagation delay plus its own
-    // onset delay (the ITD); its onset-free filters are in the bank.
-    v.delay.write(v.input);
-    const double base = FractionalDelay::kMinDelay + prop;
-    const std::array<double, 2> to{v.delay.clamp_delay(base + d.left_s * cfg_.sample_rate),
-                                   v.delay.clamp_delay(base + d.right_s * cfg_.sample_rate)};
-    v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
-    v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
-    v.ear_delay = to;
-    if (near || v.near->filter_l.active() || v.near->filter_r.active()) {
-      // Each ear's level from the sphere model, for its angle to the source;
-      // new taps only once the source has moved a fraction of a grid cell.
-      Voice::Near& n = *v.near;
-      const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
-      const std::span<const float> taps(n.taps);
-      for (std::size_t ear = 0; ear < 2; ++ear) {
-        NearFieldFilter& filter = ear == 0 ? n.filter_l : n.filter_r;
-        const std::span<float> x = ear == 0 ? std::span<float>(v.ear_l) : std::span<float>(v.ear_r);
-        const NearFieldTable::GridPoint at = near_field_->locate(v.shell, hr.distance, std::acos(ear == 0 ? uy : -uy));
-        if (!NearFieldTable::moved_enough(n.grid[ear], at)) {
-          filter.hold(x);
-          continue;
-        }
-        if (at.on) near_field_->taps_at(at, n.taps);
-        filter.process(x, at.on ? taps : std::span<const float>{});
-        n.grid[ear] = at;
-      }
-    }
-    pan(v, v.recipe, right_recipe, g);
-    const auto send = static_cast<float>(v.state.reverb_send);
-    if (send != 0.0f) {
-      const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
-      for (std::size_t i = 0; i < B; ++i) send_[i] += send * (gain0 + gain_step * static_cast<float>(i + 1)) * v.input[i];
-    }
+    prefetch_after(s);
+    render_source(*voices_[s], listener, listener_gain);
   }
   bank_->process(mix_l_, mix_r_);
+  limit(left, right);
+}
 
-  // Master gain, then a peak limiter: instant attack, ~50 ms release, and a
-  // final clamp so nothing ever leaves beyond full scale; NaN becomes silence.
+void Renderer::prefetch_after(std::size_t s) const {
+  if (s + 2 < active_) {  // the state of the source after next, read below one step from now
+    const auto* after = reinterpret_cast<const char*>(voices_[s + 2].get());
+    for (std::size_t b = 0; b < sizeof(Voice); b += 64) __builtin_prefetch(after + b, 0, 3);
+  }
+  if (s + 1 < active_) {
+    // With many sources, the next one's delayed samples and the bank
+    // lanes it panned into have left the nearer caches: ask for them now,
+    // so they arrive while this source renders.
+    const Voice& next = *voices_[s + 1];
+    if (next.ear_delay[0] >= 0.0) next.delay.prefetch(cfg_.block, next.ear_delay[0], next.ear_delay[1]);
+    if (next.panned)
+      for (const std::uint32_t m : next.pans[1].index[0]) bank_->prefetch(m);
+  }
+}
+
+void Renderer::render_source(Voice& v, const HeadPose& listener, double listener_gain) {
+  const std::size_t B = cfg_.block;
+  // A relative source's position is already head-relative.
+  const HeadPose& frame = v.state.relative ? kAtOrigin : listener;
+  HeadFrame hr = head_frame(v.state.position, frame);
+  if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
+  // Nearer than the farthest shell: the shell nearest the source, and
+  // each ear's own direction to it (near_field.hpp).
+  const bool near = near_field_ && !near_field_->empty() && hr.distance < hrtf_->shell(0).radius_m;
+  if (near) aim_near(v, hr);
+  else aim_far(v, hr);
+  const hrtf::Interpolation& right_recipe = v.split ? v.near->recipe_r : v.recipe;
+  // The ITD follows every move, through the delay lines.
+  hrtf::Delays d{v.recipe.delays.left_s, right_recipe.delays.right_s};
+  if (v.split) d = {d.left_s + v.near->shift[0], d.right_s + v.near->shift[1]};
+  const double prop = propagation_delay(v, hr, frame);
+  // OpenAL's order: source gain x distance x cone, clamped to [min, max],
+  // then the listener's gain.
+  const Vec3& sp = v.state.position;
+  const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
+  const double attenuated =
+      v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
+  const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener_gain;
+  const double g0 = v.gain < 0.0 ? g : v.gain;
+  v.gain = g;
+
+  v.air.update(hr.distance, v.state.air_absorption);
+  v.air.process(v.input);
+  // Each ear hears the source late by the propagation delay plus its own
+  // onset delay (the ITD); its onset-free filters are in the bank.
+  v.delay.write(v.input);
+  const double base = FractionalDelay::kMinDelay + prop;
+  const std::array<double, 2> to{v.delay.clamp_delay(base + d.left_s * cfg_.sample_rate),
+                                 v.delay.clamp_delay(base + d.right_s * cfg_.sample_rate)};
+  v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to[0] : v.ear_delay[0], to[0]);
+  v.delay.read(v.ear_r, v.ear_delay[1] < 0.0 ? to[1] : v.ear_delay[1], to[1]);
+  v.ear_delay = to;
+  if (near || v.near->filter_l.active() || v.near->filter_r.active()) near_field_level(v, hr);
+  pan(v, v.recipe, right_recipe, g);
+  const auto send = static_cast<float>(v.state.reverb_send);
+  if (send != 0.0f) {
+    const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
+    for (std::size_t i = 0; i < B; ++i) send_[i] += send * (gain0 + gain_step * static_cast<float>(i + 1)) * v.input[i];
+  }
+}
+
+void Renderer::aim_far(Voice& v, const HeadFrame& hr) {
+  if (hr.direction != v.direction || v.split) {
+    v.recipe = hrtf_->interpolate(hr.direction, v.triangle);
+    v.triangle = v.recipe.blend.triangle;
+    v.direction = hr.direction;
+    v.split = false;
+    v.shell = 0;
+  }
+}
+
+void Renderer::aim_near(Voice& v, const HeadFrame& hr) {
+  const std::size_t shell = hrtf_->nearest_shell(hr.distance);
+  const double R = hrtf_->shell(shell).radius_m, a = near_field_->head().radius_m;
+  const double r = std::max(hr.distance, near_field_->min_distance_m());
+  const Vec3 at{hr.direction[0] * r, hr.direction[1] * r, hr.direction[2] * r};
+  const Vec3 dl = parallax_direction(at, a, R), dr = parallax_direction(at, -a, R);
+  Voice::Near& n = *v.near;
+  if (dl != v.direction || !v.split || shell != v.shell) {
+    v.recipe = hrtf_->interpolate_in_shell(dl, shell, v.triangle);
+    v.triangle = v.recipe.blend.triangle;
+    v.direction = dl;
+  }
+  if (dr != n.direction_r || !v.split || shell != v.shell) {
+    n.recipe_r = hrtf_->interpolate_in_shell(dr, shell, n.triangle_r);
+    n.triangle_r = n.recipe_r.blend.triangle;
+    n.direction_r = dr;
+  }
+  v.split = true;
+  v.shell = shell;
+  // The sphere's path to each ear from the source, less its path from
+  // where that ear's HRTF was measured: the measured delays then give
+  // the near ITD (zero at the shell).
+  const hrtf::SphereHead& head = near_field_->head();
+  const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
+  n.shift = {hrtf::sphere_path_delay(r, std::acos(uy), head) -
+                 hrtf::sphere_path_delay(R, std::acos(std::clamp(dl[1], -1.0, 1.0)), head),
+             hrtf::sphere_path_delay(r, std::acos(-uy), head) -
+                 hrtf::sphere_path_delay(R, std::acos(std::clamp(-dr[1], -1.0, 1.0)), head)};
+}
+
+// Propagation delay to the listener's ear now from where the source was
+// when it emitted: d = DF r / (c + DF r_s'), with r_s' the rate at which
+// the source's own motion changes the distance. Gliding the delay line by
+// that gives OpenAL's Doppler shift, f (c - DF v_l) / (c - DF v_s).
+double Renderer::propagation_delay(Voice& v, const HeadFrame& hr, const HeadPose& frame) const {
+  double rate_src = 0.0;
+  if (v.moved_from) {
+    const Vec3& p = *v.moved_from;
+    const double dx = p[0] - frame.position[0], dy = p[1] - frame.position[1], dz = p[2] - frame.position[2];
+    rate_src = (hr.distance - std::sqrt(dx * dx + dy * dy + dz * dz)) * cfg_.sample_rate / static_cast<double>(cfg_.block);
+  }
+  v.moved_from = v.state.position;
+  const double c = cfg_.speed_of_sound;
+  const double approach = std::max(cfg_.doppler_factor * rate_src, -0.5 * c);  // no sonic booms
+  return cfg_.doppler_factor * hr.distance / (c + approach) * cfg_.sample_rate;
+}
+
+// Each ear's level from the sphere model, for its angle to the source; new
+// taps only once the source has moved a fraction of a grid cell.
+void Renderer::near_field_level(Voice& v, const HeadFrame& hr) {
+  Voice::Near& n = *v.near;
+  const double uy = std::clamp(hr.direction[1], -1.0, 1.0);
+  const std::span<const float> taps(n.taps);
+  for (std::size_t ear = 0; ear < 2; ++ear) {
+    NearFieldFilter& filter = ear == 0 ? n.filter_l : n.filter_r;
+    const std::span<float> x = ear == 0 ? std::span<float>(v.ear_l) : std::span<float>(v.ear_r);
+    const NearFieldTable::GridPoint at = near_field_->locate(v.shell, hr.distance, std::acos(ear == 0 ? uy : -uy));
+    if (!NearFieldTable::moved_enough(n.grid[ear], at)) {
+      filter.hold(x);
+      continue;
+    }
+    if (at.on) near_field_->taps_at(at, n.taps);
+    filter.process(x, at.on ? taps : std::span<const float>{});
+    n.grid[ear] = at;
+  }
+}
+
+// Master gain, then a peak limiter: instant attack, ~50 ms release, and a
+// final clamp so nothing ever leaves beyond full scale; NaN becomes silence.
+void Renderer::limit(std::span<float> left, std::span<float> right) {
   constexpr double kCeiling = 0.98;
   const double release = std::exp(-1.0 / (0.05 * cfg_.sample_rate));
-  for (std::size_t i = 0; i < B; ++i) {
+  for (std::size_t i = 0; i < cfg_.block; ++i) {
     double l = mix_l_[i] * cfg_.master_gain, r = mix_r_[i] * cfg_.master_gain;
     if (!std::isfinite(l)) l = 0.0;
     if (!std::isfinite(r)) r = 0.0;

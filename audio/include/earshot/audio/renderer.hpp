@@ -80,6 +80,7 @@ struct HeadRelative {
 
 class Renderer {
  public:
+  struct HeadFrame;  ///< a point as the head sees it (renderer.cpp)
   /// Prepares the set's spectra for cfg.block itself.
   Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg);
   /// Uses prepared data (e.g. from HrtfCache), shared with other renderers:
@@ -117,7 +118,15 @@ class Renderer {
 
  private:
   struct Voice;
+  // The steps of render(), per source (renderer.cpp).
+  void prefetch_after(std::size_t s) const;  // the next sources' state and lanes, on their way to the cache
+  void render_source(Voice& v, const HeadPose& listener, double listener_gain);
+  void aim_far(Voice& v, const HeadFrame& hr);   // the blend of measurements towards the source
+  void aim_near(Voice& v, const HeadFrame& hr);  // each ear's own blend and the near ITD (parallax)
+  [[nodiscard]] double propagation_delay(Voice& v, const HeadFrame& hr, const HeadPose& frame) const;  // samples
+  void near_field_level(Voice& v, const HeadFrame& hr);  // each ear's rigid-sphere level filter
   void pan(Voice& v, const hrtf::Interpolation& left, const hrtf::Interpolation& right, double gain);
+  void limit(std::span<float> left, std::span<float> right);  // master gain, peak limiter, clamp
 
   std::shared_ptr<const hrtf::HrtfSet> hrtf_;
   RendererConfig cfg_;

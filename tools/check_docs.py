@@ -26,8 +26,12 @@ import sys
 # The repository's own top-level folders (read from the tree, so a new folder is
 # covered the day it lands), and .ci. Paths beginning with one are checked.
 def top_folders(root):
-    return sorted([d for d in os.listdir(root) if os.path.isdir(os.path.join(root, d)) and
-                   not d.startswith(".") and not d.startswith("build")] + [".ci"])
+    tracked = subprocess.run(["git", "-C", root, "ls-files"], capture_output=True, text=True)
+    if tracked.returncode == 0 and tracked.stdout:
+        tops = {f.split("/")[0] for f in tracked.stdout.splitlines() if "/" in f}
+    else:  # not a git checkout: the folders on disk
+        tops = {d for d in os.listdir(root) if os.path.isdir(os.path.join(root, d))}
+    return sorted(d for d in tops if not d.startswith(".") and not d.startswith("build")) + [".ci"]
 
 
 def path_re(top):
@@ -51,6 +55,18 @@ class Checker:
 
     def problem(self, where, what):
         self.problems.append(f"{where}: {what}")
+
+    # ---- the README's layout ---------------------------------------------------
+    def check_layout(self, readme):
+        """README.md's "Layout" section names every top-level folder as `folder/`."""
+        text = open(readme).read()
+        m = re.search(r"^## Layout\n(.*?)(?=^## )", text, re.S | re.M)
+        if not m:
+            self.problem(os.path.basename(readme), "no '## Layout' section naming the folders")
+            return
+        for top in top_folders(self.root):
+            if f"`{top}/`" not in m.group(1):
+                self.problem(os.path.basename(readme), f"the Layout section does not name `{top}/`")
 
     # ---- paths -------------------------------------------------------------
     def path_exists(self, p):
@@ -183,6 +199,8 @@ class Checker:
         for n, line in enumerate(lines, 1):
             where = f"{rel}:{n}"
             if FENCE_RE.match(line):
+                if in_code and pending:  # the block's last command
+                    self.check_command(*pending)
                 in_code = not in_code
                 pending = None
                 continue
@@ -247,6 +265,8 @@ def main():
             print(f"check_docs: {d}: no such file", file=sys.stderr)
             return 2
         c.check_file(d)
+    if not a.docs:
+        c.check_layout(os.path.join(a.root, "README.md"))
     for p in c.problems:
         print(p)
     print(f"check_docs: {len(docs)} files, {len(c.help_cache)} commands run, {len(c.problems)} problems")

@@ -134,8 +134,22 @@ std::string fourcc_name(std::uint32_t f) {
 }
 
 V4l2Camera::V4l2Camera(std::string device, const V4l2Options& options) : device_(std::move(device)) {
-  // Plain open and QUERYCAP first: v4l2_open refuses a non-V4L2 file with
-  // only ENOTTY (and a line on stderr); this way each case has its message.
+  open_device();
+  try {
+    choose_mode(options);
+    set_format();
+    set_frame_rate();
+    start_streaming();
+  } catch (...) {
+    close();
+    throw;
+  }
+}
+
+// Plain open and QUERYCAP first: v4l2_open refuses a non-V4L2 file with only
+// ENOTTY (and a line on stderr); this way each case has its message. Then
+// libv4l2 over the descriptor (it converts what the camera sends).
+void V4l2Camera::open_device() {
   const int fd = ::open(device_.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) throw camera_open_error(device_, errno, list_video_devices());
   v4l2_capability cap{};
@@ -161,95 +175,100 @@ V4l2Camera::V4l2Camera(std::string device, const V4l2Options& options) : device_
     ::close(fd);
     throw CameraError(Kind::io, device_ + ": libv4l2 cannot use it: " + errno_text(err));
   }
-  try {
-    // Every mode in every format, libv4l2's converted ones included.
-    std::vector<CaptureMode> modes;
-    std::string formats;
-    v4l2_fmtdesc desc{};
-    desc.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    for (desc.index = 0; xioctl(fd_, VIDIOC_ENUM_FMT, &desc) == 0 && desc.index < 64; ++desc.index) {
-      formats += (formats.empty() ? "" : ", ") + fourcc_name(desc.pixelformat);
-      enumerate_modes(fd_, desc.pixelformat, modes);
-    }
-    const auto chosen = choose_capture_mode(modes, options.max_width, options.max_height, options.max_fps);
-    if (!chosen)
-      throw CameraError(Kind::no_format, device_ + " (" + name_ + ") offers no size at or below " +
-                                             std::to_string(options.max_width) + "x" + std::to_string(options.max_height) +
-                                             (options.max_fps ? " at " + std::to_string(options.max_fps) + " fps or less" : "") +
-                                             " (formats: " + (formats.empty() ? "none" : formats) + ")");
-    mode_ = *chosen;
+}
 
-    // Ask for luma in the chosen size; libv4l2 converts when the camera
-    // sends something else.
-    v4l2_format f{};
-    bool set = false;
-    for (const std::uint32_t want : {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_YUV420, V4L2_PIX_FMT_YUYV}) {
-      f = {};
-      f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-      f.fmt.pix.width = static_cast<std::uint32_t>(mode_.width);
-      f.fmt.pix.height = static_cast<std::uint32_t>(mode_.height);
-      f.fmt.pix.pixelformat = want;
-      f.fmt.pix.field = V4L2_FIELD_NONE;
-      if (xioctl(fd_, VIDIOC_S_FMT, &f) != 0) {
-        if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
-        continue;
-      }
-      if (f.fmt.pix.pixelformat == want) {
-        set = true;
-        break;
-      }
-    }
-    if (!set)
-      throw CameraError(Kind::no_format, device_ + " (" + name_ + "): no format libv4l2 turns into grey, YUV420 or YUYV (formats: " +
-                                             formats + ")");
-    format_ = f.fmt.pix.pixelformat;
-    mode_.width = static_cast<int>(f.fmt.pix.width);
-    mode_.height = static_cast<int>(f.fmt.pix.height);
-    bytes_per_line_ = f.fmt.pix.bytesperline ? f.fmt.pix.bytesperline
-                                             : static_cast<std::ptrdiff_t>(mode_.width) * (format_ == V4L2_PIX_FMT_YUYV ? 2 : 1);
-
-    v4l2_streamparm parm{};
-    parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    parm.parm.capture.timeperframe.numerator = static_cast<std::uint32_t>(mode_.interval_num);
-    parm.parm.capture.timeperframe.denominator = static_cast<std::uint32_t>(mode_.interval_den);
-    if (xioctl(fd_, VIDIOC_S_PARM, &parm) == 0 && parm.parm.capture.timeperframe.numerator > 0 &&
-        parm.parm.capture.timeperframe.denominator > 0) {
-      mode_.interval_num = static_cast<int>(parm.parm.capture.timeperframe.numerator);
-      mode_.interval_den = static_cast<int>(parm.parm.capture.timeperframe.denominator);
-    }
-
-    v4l2_requestbuffers req{};
-    req.count = 4;
-    req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    req.memory = V4L2_MEMORY_MMAP;
-    if (xioctl(fd_, VIDIOC_REQBUFS, &req) != 0) {
-      if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
-      throw CameraError(Kind::io, device_ + ": cannot get capture buffers: " + errno_text(errno));
-    }
-    if (req.count < 2) throw CameraError(Kind::io, device_ + ": the driver gave fewer than two capture buffers");
-    for (std::uint32_t i = 0; i < req.count; ++i) {
-      v4l2_buffer b{};
-      b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-      b.memory = V4L2_MEMORY_MMAP;
-      b.index = i;
-      if (xioctl(fd_, VIDIOC_QUERYBUF, &b) != 0)
-        throw CameraError(Kind::io, device_ + ": cannot query capture buffer: " + errno_text(errno));
-      void* p = v4l2_mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, b.m.offset);
-      if (p == MAP_FAILED) throw CameraError(Kind::io, device_ + ": cannot map capture buffer: " + errno_text(errno));
-      buffers_.push_back({p, b.length});
-      if (xioctl(fd_, VIDIOC_QBUF, &b) != 0)
-        throw CameraError(Kind::io, device_ + ": cannot queue capture buffer: " + errno_text(errno));
-    }
-    v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
-    if (xioctl(fd_, VIDIOC_STREAMON, &type) != 0) {
-      if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
-      throw CameraError(Kind::io, device_ + ": cannot start streaming: " + errno_text(errno));
-    }
-    streaming_ = true;
-  } catch (...) {
-    close();
-    throw;
+// Every mode in every format, libv4l2's converted ones included; the largest
+// within the options' limits at the highest rate.
+void V4l2Camera::choose_mode(const V4l2Options& options) {
+  std::vector<CaptureMode> modes;
+  v4l2_fmtdesc desc{};
+  desc.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  for (desc.index = 0; xioctl(fd_, VIDIOC_ENUM_FMT, &desc) == 0 && desc.index < 64; ++desc.index) {
+    formats_ += (formats_.empty() ? "" : ", ") + fourcc_name(desc.pixelformat);
+    enumerate_modes(fd_, desc.pixelformat, modes);
   }
+  const auto chosen = choose_capture_mode(modes, options.max_width, options.max_height, options.max_fps);
+  if (!chosen)
+    throw CameraError(Kind::no_format, device_ + " (" + name_ + ") offers no size at or below " +
+                                           std::to_string(options.max_width) + "x" + std::to_string(options.max_height) +
+                                           (options.max_fps ? " at " + std::to_string(options.max_fps) + " fps or less" : "") +
+                                           " (formats: " + (formats_.empty() ? "none" : formats_) + ")");
+  mode_ = *chosen;
+}
+
+// Luma in the chosen size; libv4l2 converts when the camera sends something else.
+void V4l2Camera::set_format() {
+  v4l2_format f{};
+  bool set = false;
+  for (const std::uint32_t want : {V4L2_PIX_FMT_GREY, V4L2_PIX_FMT_YUV420, V4L2_PIX_FMT_YUYV}) {
+    f = {};
+    f.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    f.fmt.pix.width = static_cast<std::uint32_t>(mode_.width);
+    f.fmt.pix.height = static_cast<std::uint32_t>(mode_.height);
+    f.fmt.pix.pixelformat = want;
+    f.fmt.pix.field = V4L2_FIELD_NONE;
+    if (xioctl(fd_, VIDIOC_S_FMT, &f) != 0) {
+      if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
+      continue;
+    }
+    if (f.fmt.pix.pixelformat == want) {
+      set = true;
+      break;
+    }
+  }
+  if (!set)
+    throw CameraError(Kind::no_format, device_ + " (" + name_ + "): no format libv4l2 turns into grey, YUV420 or YUYV (formats: " +
+                                           formats_ + ")");
+  format_ = f.fmt.pix.pixelformat;
+  mode_.width = static_cast<int>(f.fmt.pix.width);
+  mode_.height = static_cast<int>(f.fmt.pix.height);
+  bytes_per_line_ = f.fmt.pix.bytesperline ? f.fmt.pix.bytesperline
+                                           : static_cast<std::ptrdiff_t>(mode_.width) * (format_ == V4L2_PIX_FMT_YUYV ? 2 : 1);
+}
+
+// The chosen mode's frame interval, and what the driver made of it.
+void V4l2Camera::set_frame_rate() {
+  v4l2_streamparm parm{};
+  parm.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  parm.parm.capture.timeperframe.numerator = static_cast<std::uint32_t>(mode_.interval_num);
+  parm.parm.capture.timeperframe.denominator = static_cast<std::uint32_t>(mode_.interval_den);
+  if (xioctl(fd_, VIDIOC_S_PARM, &parm) == 0 && parm.parm.capture.timeperframe.numerator > 0 &&
+      parm.parm.capture.timeperframe.denominator > 0) {
+    mode_.interval_num = static_cast<int>(parm.parm.capture.timeperframe.numerator);
+    mode_.interval_den = static_cast<int>(parm.parm.capture.timeperframe.denominator);
+  }
+}
+
+// Four mapped buffers queued, and the stream on.
+void V4l2Camera::start_streaming() {
+  v4l2_requestbuffers req{};
+  req.count = 4;
+  req.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  req.memory = V4L2_MEMORY_MMAP;
+  if (xioctl(fd_, VIDIOC_REQBUFS, &req) != 0) {
+    if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
+    throw CameraError(Kind::io, device_ + ": cannot get capture buffers: " + errno_text(errno));
+  }
+  if (req.count < 2) throw CameraError(Kind::io, device_ + ": the driver gave fewer than two capture buffers");
+  for (std::uint32_t i = 0; i < req.count; ++i) {
+    v4l2_buffer b{};
+    b.type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+    b.memory = V4L2_MEMORY_MMAP;
+    b.index = i;
+    if (xioctl(fd_, VIDIOC_QUERYBUF, &b) != 0)
+      throw CameraError(Kind::io, device_ + ": cannot query capture buffer: " + errno_text(errno));
+    void* p = v4l2_mmap(nullptr, b.length, PROT_READ | PROT_WRITE, MAP_SHARED, fd_, b.m.offset);
+    if (p == MAP_FAILED) throw CameraError(Kind::io, device_ + ": cannot map capture buffer: " + errno_text(errno));
+    buffers_.push_back({p, b.length});
+    if (xioctl(fd_, VIDIOC_QBUF, &b) != 0)
+      throw CameraError(Kind::io, device_ + ": cannot queue capture buffer: " + errno_text(errno));
+  }
+  v4l2_buf_type type = V4L2_BUF_TYPE_VIDEO_CAPTURE;
+  if (xioctl(fd_, VIDIOC_STREAMON, &type) != 0) {
+    if (errno == EBUSY) throw camera_open_error(device_, EBUSY, {});
+    throw CameraError(Kind::io, device_ + ": cannot start streaming: " + errno_text(errno));
+  }
+  streaming_ = true;
 }
 
 V4l2Camera::~V4l2Camera() { close(); }

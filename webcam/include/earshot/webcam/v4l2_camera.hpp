@@ -92,12 +92,19 @@ class V4l2Camera {
   [[nodiscard]] const CaptureMode& mode() const { return mode_; }
 
  private:
+  // The steps of opening the camera, in order.
+  void open_device();                          // the device, checked to capture and stream
+  void choose_mode(const V4l2Options& options);  // size and rate among all it offers
+  void set_format();                           // luma (grey, YUV420 or YUYV) in that size
+  void set_frame_rate();
+  void start_streaming();                      // buffers mapped and queued, stream on
   void close();
   void requeue();
 
   std::string device_;
   std::string name_;  ///< the driver's card name
   int fd_ = -1;
+  std::string formats_;  // the formats it offers, for messages
   CaptureMode mode_;
   std::uint32_t format_ = 0;   ///< the format frames arrive in (GREY, YU12, YUYV)
   std::ptrdiff_t bytes_per_line_ = 0;

@@ -21,5 +21,6 @@ endif()
 function(earshot_fuzz_coverage_sources)
   if(EARSHOT_BUILD_FUZZ)
     set_property(SOURCE ${ARGN} APPEND PROPERTY COMPILE_OPTIONS -fsanitize=fuzzer-no-link)
+    set_property(SOURCE ${ARGN} PROPERTY SKIP_UNITY_BUILD_INCLUSION ON)  # a unity batch would drop the option
   endif()
 endfunction()

@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
+  mold                   # a fast linker for the many test executables (CMakeLists.txt uses it when present)
   libeigen3-dev          # geometry and small dense solvers (tracker)
   libcli11-dev           # command-line parser of the earshot tool
   nlohmann-json3-dev     # Model / Scene JSON

@@ -62,7 +62,11 @@ def functions_in(job):
     """(file, line, kind, lines, name) of each function body defined in the project's folders."""
     path, args, root = job
     ci = load_clang()
-    tu = ci.Index.create().parse(path, args=args + ["-Wno-everything"])
+    try:
+        tu = ci.Index.create().parse(path, args=args + ["-Wno-everything"])
+    except ci.TranslationUnitLoadError:
+        print(f"longest_functions: {path}: libclang cannot parse it; skipped", file=sys.stderr)
+        return []
     out = []
     for c in tu.cursor.walk_preorder():
         try:

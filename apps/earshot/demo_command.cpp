@@ -32,6 +32,7 @@
 #include "demo/audio_output.hpp"
 #include "demo/keys.hpp"
 #include "demo/live_demo.hpp"
+#include "progress_bar.hpp"
 
 namespace earshot::app {
 namespace {
@@ -113,13 +114,6 @@ TrackedHead track_to_file(const DemoArgs& a, double duration, const std::filesys
   return head;
 }
 
-void progress_bar(double f) {
-  const int width = 40, filled = static_cast<int>(f * width);
-  std::fprintf(stderr, "\rrendering [%.*s%*s] %3d%%", filled, "########################################",
-               width - filled, "", static_cast<int>(f * 100));
-  if (f >= 1.0) std::fputc('\n', stderr);
-  std::fflush(stderr);
-}
 
 void run_offline(const DemoArgs& a);
 

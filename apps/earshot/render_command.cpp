@@ -12,6 +12,7 @@
 #include "earshot/host/scene_render.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/stop_signals.hpp"
+#include "progress_bar.hpp"
 
 namespace earshot::app {
 
@@ -22,14 +23,6 @@ struct RenderArgs {
   std::size_t block = 128;
 };
 
-/// A one-line progress bar on a terminal; nothing when stderr is a file.
-void progress_bar(double f) {
-  const int width = 40, filled = static_cast<int>(f * width);
-  std::fprintf(stderr, "\rrendering [%.*s%*s] %3d%%", filled, "########################################",
-               width - filled, "", static_cast<int>(f * 100));
-  if (f >= 1.0) std::fputc('\n', stderr);
-  std::fflush(stderr);
-}
 }  // namespace
 
 void add_render_command(CLI::App& app) {

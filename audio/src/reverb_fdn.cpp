@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "earshot/audio/decay_filter.hpp"
+#include "prime_lengths.hpp"
 
 namespace earshot::audio {
 namespace {
@@ -21,16 +22,7 @@ constexpr double kMaxSpread = 1.0;
 constexpr float hadamard(std::size_t r, std::size_t c) { return std::popcount(r & c) % 2 ? -1.0f : 1.0f; }
 constexpr std::size_t kRowIn = 7, kRowLeft = 5, kRowRight = 10;
 
-bool is_prime(std::size_t n) {
-  if (n < 2) return false;
-  for (std::size_t d = 2; d * d <= n; ++d)
-    if (n % d == 0) return false;
-  return true;
-}
-std::size_t prime_at_least(std::size_t n) {
-  while (!is_prime(n)) ++n;
-  return n;
-}
+using detail::prime_at_least;
 
 // In-place fast Walsh-Hadamard transform of 16 values, scaled to be orthogonal.
 inline void hadamard16(std::array<float, N>& v) {

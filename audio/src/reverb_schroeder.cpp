@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "earshot/audio/decay_filter.hpp"
+#include "prime_lengths.hpp"
 
 namespace earshot::audio {
 namespace {
@@ -14,16 +15,7 @@ constexpr std::array<double, ReverbSchroeder::kCombs> kCombMs{24.7, 26.3, 28.1, 
 constexpr std::array<double, 2 * ReverbSchroeder::kAllpasses> kAllpassMs{5.0, 3.1, 1.7, 0.71,
                                                                          5.4, 3.5, 1.9, 0.83};
 
-bool is_prime(std::size_t n) {
-  if (n < 2) return false;
-  for (std::size_t d = 2; d * d <= n; ++d)
-    if (n % d == 0) return false;
-  return true;
-}
-std::size_t prime_at_least(std::size_t n) {
-  while (!is_prime(n)) ++n;
-  return n;
-}
+using detail::prime_at_least;
 
 }  // namespace
 

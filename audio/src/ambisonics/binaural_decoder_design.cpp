@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
@@ -19,7 +20,11 @@ namespace {
 using cd = std::complex<double>;
 constexpr double kHeadRadius = 0.0875;
 constexpr double kSpeedOfSound = 343.0;
+constexpr double kMaxTransitionHz = 2000.0;
 constexpr std::size_t kQuadraturePoints = std::size_t{1} << 15;
+/// Shadow weighting: a direction's power counts at least this share of the
+/// band's mean (-30 dB), so a deep notch does not take all the weight.
+constexpr double kPowerFloor = 1e-3;
 
 /// Third-octave band edges from f0 up, as bin indices (first bin of each band).
 std::vector<std::size_t> band_starts(std::size_t first_bin, std::size_t bins, double bin_hz) {
@@ -39,7 +44,7 @@ std::vector<std::size_t> band_starts(std::size_t first_bin, std::size_t bins, do
 
 double transition_hz_for(const DecoderDesign& design, int order) {
   if (design.transition_hz > 0.0) return design.transition_hz;
-  return order * kSpeedOfSound / (2.0 * std::numbers::pi * kHeadRadius);
+  return std::min(kMaxTransitionHz, order * kSpeedOfSound / (2.0 * std::numbers::pi * kHeadRadius));
 }
 
 std::vector<double> sphere_quadrature(const hrtf::HrtfSet& set) {
@@ -57,10 +62,14 @@ std::vector<double> sphere_quadrature(const hrtf::HrtfSet& set) {
   std::vector<double> w(Q, 0.0);
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
   const double cell = 4.0 * std::numbers::pi / double(kQuadraturePoints);
+  // Half the points on a Fibonacci lattice, half their mirror images across
+  // the median plane: a left-right symmetric grid gets symmetric weights
+  // (and a symmetric decoder, so ILD 0 ahead and behind).
   for (std::size_t i = 0; i < kQuadraturePoints; ++i) {
-    const double z = 1.0 - (2.0 * double(i) + 1.0) / double(kQuadraturePoints);
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = golden * double(i);
-    const Vec3 p{r * std::cos(phi), r * std::sin(phi), z};
+    const std::size_t j = i / 2;
+    const double z = 1.0 - (2.0 * double(j) + 1.0) / double(kQuadraturePoints / 2);
+    const double r = std::sqrt(std::max(0.0, 1.0 - z * z)), phi = golden * double(j);
+    const Vec3 p{r * std::cos(phi), (i % 2 ? -1.0 : 1.0) * r * std::sin(phi), z};
     std::size_t best = 0;
     double best_cos = -2.0;
     for (std::size_t q = 0; q < Q; ++q) {
@@ -133,6 +142,25 @@ DecoderFilters design_binaural_decoder(const hrtf::HrtfSet& set, int order, cons
       }
   }
 
+  // Each ear's typical delay: the quadrature-weighted mean over directions
+  // of the energy centroid of its response (filter at its delay). MagLS's
+  // phase above the transition runs on from the previous bin with this
+  // group delay, so the high band sits where the responses' energy is
+  // instead of around time zero (half of it wrapping to the end).
+  double group_delay[2] = {0.0, 0.0};
+  for (std::size_t e = 0; e < 2; ++e) {
+    for (std::size_t q = 0; q < Q; ++q) {
+      const auto f = set.filter(q, static_cast<hrtf::Ear>(e));
+      double num = 0.0, den = 0.0;
+      for (std::size_t i = 0; i < f.size(); ++i) {
+        num += double(i) * double(f[i]) * f[i];
+        den += double(f[i]) * f[i];
+      }
+      const double tau = (e == 0 ? set.delays(q).left_s : set.delays(q).right_s) * rate;
+      if (den > 0.0) group_delay[e] += w[q] * (num / den + tau) / wsum;
+    }
+  }
+
   const double fc = design.method == DecoderMethod::ls ? rate : transition_hz_for(design, order);
   const auto kc = std::clamp<std::size_t>(static_cast<std::size_t>(std::ceil(fc / bin_hz)), 1, bins);
   const auto Kc = static_cast<Eigen::Index>(kc), Qi = static_cast<Eigen::Index>(Q);
@@ -140,44 +168,40 @@ DecoderFilters design_binaural_decoder(const hrtf::HrtfSet& set, int order, cons
   for (std::size_t e = 0; e < 2; ++e) D[e].leftCols(Kc) = G * H[e].leftCols(Kc);
 
   if (kc < bins) {
+    // Above the transition: per third-octave band and ear, a weighted LS fit
+    // of magnitudes (DecoderDesign::shadow_weighting).
     const std::vector<std::size_t> bands = band_starts(kc, bins, bin_hz);
-    const std::size_t nb = bands.size() - 1;
-    // Magnitude targets per ear, direction and band (scaled by the band-energy passes).
-    Eigen::MatrixXd scale[2] = {Eigen::MatrixXd::Ones(Qi, static_cast<Eigen::Index>(nb)),
-                                Eigen::MatrixXd::Ones(Qi, static_cast<Eigen::Index>(nb))};
     Eigen::VectorXcd t(Qi), reproduced(Qi);
-    for (int pass = 0; pass <= design.band_energy_iterations; ++pass) {
-      for (std::size_t e = 0; e < 2; ++e) {
-        for (std::size_t b = 0; b < nb; ++b)
-          for (std::size_t k = bands[b]; k < bands[b + 1]; ++k) {
-            const auto K = static_cast<Eigen::Index>(k);
-            reproduced.noalias() = Yc * D[e].col(K - 1);
-            for (Eigen::Index q = 0; q < Qi; ++q) {
-              const double mag = std::abs(H[e](q, K)) * scale[e](q, static_cast<Eigen::Index>(b));
-              const double a = std::abs(reproduced(q));
-              t(q) = a > 0.0 ? reproduced(q) * (mag / a) : cd(mag, 0.0);
-            }
-            D[e].col(K).noalias() = G * t;
-          }
-      }
-      if (pass == design.band_energy_iterations) break;
-      // What each band reproduced, against the HRTF's energy there.
-      for (std::size_t e = 0; e < 2; ++e) {
-        const Eigen::MatrixXcd R = Yc * D[e].rightCols(static_cast<Eigen::Index>(bins - kc));
-        for (std::size_t b = 0; b < nb; ++b) {
+    const cd step[2] = {std::polar(1.0, -2.0 * std::numbers::pi * group_delay[0] / double(nfft)),
+                        std::polar(1.0, -2.0 * std::numbers::pi * group_delay[1] / double(nfft))};
+    Eigen::VectorXd v(Qi), power(Qi);
+    Eigen::MatrixXcd Gb;
+    for (std::size_t e = 0; e < 2; ++e)
+      for (std::size_t b = 0; b + 1 < bands.size(); ++b) {
+        const auto k0 = static_cast<Eigen::Index>(bands[b]), n = static_cast<Eigen::Index>(bands[b + 1] - bands[b]);
+        if (design.shadow_weighting) {
+          // Weight = quadrature x max(1, threshold / power): plain where a
+          // direction is loud, relative error where it is in the shadow.
+          power = H[e].middleCols(k0, n).cwiseAbs2().rowwise().sum();
+          const double mean = power.dot(wv) / wsum;
+          const double threshold = mean * std::pow(10.0, -design.shadow_below_db / 10.0);
+          const double floor = mean * kPowerFloor;
+          v = wv.cwiseProduct((threshold / power.array().max(floor)).max(1.0).matrix());
+          Eigen::MatrixXd Ab = Y.transpose() * v.asDiagonal() * Y;
+          Ab.diagonal().array() += design.regularisation * Ab.trace() / double(C);
+          Gb = Ab.ldlt().solve(Y.transpose() * v.asDiagonal()).cast<cd>();
+        }
+        const Eigen::MatrixXcd& Gu = design.shadow_weighting ? Gb : G;
+        for (Eigen::Index K = k0; K < k0 + n; ++K) {
+          reproduced.noalias() = Yc * D[e].col(K - 1) * step[e];
           for (Eigen::Index q = 0; q < Qi; ++q) {
-            double got = 0.0, want = 0.0;
-            for (std::size_t k = bands[b]; k < bands[b + 1]; ++k) {
-              got += std::norm(R(q, static_cast<Eigen::Index>(k - kc)));
-              want += std::norm(H[e](q, static_cast<Eigen::Index>(k)));
-            }
-            if (got > 0.0 && want > 0.0)
-              scale[e](q, static_cast<Eigen::Index>(b)) =
-                  std::clamp(scale[e](q, static_cast<Eigen::Index>(b)) * std::sqrt(want / got), 0.1, 10.0);
+            const double mag = std::abs(H[e](q, K));
+            const double a = std::abs(reproduced(q));
+            t(q) = a > 0.0 ? reproduced(q) * (mag / a) : cd(mag, 0.0);
           }
+          D[e].col(K).noalias() = Gu * t;
         }
       }
-    }
   }
 
   if (design.diffuse_covariance && kc < bins) {

@@ -15,30 +15,44 @@
 //   below -40 deg, get a small, smooth response instead of a blow-up).
 //   Order N reproduces an HRTF only up to about N c / (2 pi r_head)
 //   (~620 Hz per order for an 8.75 cm head); above, the interaural phase
-//   of lateral sources is too complex and the fit loses level, mostly at
-//   the far ear's expense.
+//   of lateral sources is too complex and the fit loses level.
 // - magls (Schoerkhuber, Zaunschirm and Hoeldrich 2018, "Binaural
 //   rendering of Ambisonic signals via magnitude least squares"): the same
-//   LS below `transition_hz`; above it, only the magnitudes are fitted,
-//   with each direction's phase taken from the previous frequency bin's
-//   decoder (so the phase runs on smoothly and is as simple as the order
-//   allows).
+//   LS below `transition_hz` (so the ITD, heard below 1.5 kHz, keeps the
+//   HRTF's phase); above it only the magnitudes are fitted, each
+//   direction's phase taken from the previous frequency bin's decoder and
+//   advanced by each ear's mean group delay (the quadrature-weighted mean
+//   energy centroid of the responses), so the high band stays where the
+//   responses' energy is instead of gathering around time zero and
+//   wrapping. (Without that step the order-3 filters lost energy to the cut
+//   at `length` and the ITD below 1.5 kHz was off by up to 800 us.)
 // Options on top:
+// - shadow_weighting (the default): above the transition, the magnitude
+//   fit of each third-octave band gives a direction whose power there is
+//   more than `shadow_below_db` (10 dB) below the band's mean the weight
+//   of a relative-error fit (quadrature weight x threshold / power, the
+//   power floored at -30 dB of the mean); louder directions keep their
+//   quadrature weight. Unweighted, the far ear's head shadow, 20-30 dB
+//   down, counts for almost nothing in a linear-magnitude fit and is filled
+//   in: plain MagLS at order 3 renders KEMAR's ILD 4.3 dB too small at
+//   110 deg; shadow-weighted, the worst is 1.9 dB and the mean 0.77 dB
+//   (plain: 0.86), with the per-band spectra no worse (mean band error
+//   0.88 dB, plain 0.95). Weighting every direction by 1 / power instead
+//   (a relative fit everywhere) also brought the worst to 2.0 dB, but at
+//   the near ear's expense ahead (1.5 dB ILD errors at +-20 deg, where the
+//   plain fit has 0.9) (tests/bench/ambi_cues.cpp, docs/AMBISONICS.md).
 // - diffuse_covariance (Zaunschirm, Schoerkhuber and Hoeldrich 2018, JASA
-//   143(6)): per bin, a 2x2 mix of the two ears' filters so that a diffuse
-//   field (incoherent waves from everywhere) has the HRTF set's ear powers
-//   and interaural coherence. Above the transition only.
-// - band_energy_iterations: after the MagLS fit, each direction's and ear's
-//   magnitude target in each third-octave band is rescaled by what the
-//   decoder reproduced there, and the fit run again, that many times. The
-//   order-N fit smooths the magnitude over direction and overestimates the
-//   far ear where the head shadow's notches are; the rescaled targets pull
-//   each band's level back to the measured one, so the rendered broadband
-//   ILD follows the HRTF's (tests/bench/ambi_cues.cpp; docs/AMBISONICS.md).
+//   143(6)): per bin above the transition, a 2x2 mix of the two ears'
+//   filters so that a diffuse field (incoherent waves from everywhere) has
+//   the HRTF set's ear powers and interaural coherence. Measured on
+//   KEMAR, it worsens plane-wave ILDs at orders 1-4 (order 3: 4.4 dB worst,
+//   1.10 mean, against 1.9 and 0.77 without it) and helps a little at 5
+//   (1.6 / 0.52 against 2.0 / 0.46), so it is off.
 //
 // Quadrature: each measurement weighs its spherical Voronoi cell, estimated
-// by assigning 2^15 near-uniform (Fibonacci) points on the sphere to their
-// nearest measurement; a point farther than twice the grid's median
+// by assigning 2^15 near-uniform points on the sphere (a Fibonacci lattice
+// and its mirror image across the median plane) to their nearest
+// measurement; a point farther than twice the grid's median
 // neighbour spacing from every measurement is in a gap the set does not
 // cover and counts for none.
 //
@@ -61,10 +75,14 @@ enum class DecoderMethod { ls, magls };
 struct DecoderDesign {
   DecoderMethod method = DecoderMethod::magls;
   /// LS below, magnitudes above; 0: order x c / (2 pi 8.75 cm), ~624 Hz per
-  /// order, at most 2 kHz... see transition_hz_for().
+  /// order, at most 2 kHz (624, 1248, 1872, 2000, 2000 Hz for orders 1-5).
+  /// Above ~2 kHz the order-N LS fills in the far ear's shadow at the sides
+  /// (orders 4 and 5: the worst horizontal ILD error 2.8 and 2.7 dB at 2.5
+  /// and 3.1 kHz, 2.5 and 2.0 dB at 2 kHz).
   double transition_hz = 0.0;
+  bool shadow_weighting = true;
+  double shadow_below_db = 10.0;
   bool diffuse_covariance = false;
-  int band_energy_iterations = 0;
   /// Tikhonov weight relative to the normal matrix's mean diagonal.
   double regularisation = 1e-3;
   /// Taps per filter; 0: the HRTF filters' length plus their largest delay,

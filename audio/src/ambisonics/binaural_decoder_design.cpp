@@ -6,6 +6,7 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
@@ -41,6 +42,14 @@ std::vector<std::size_t> band_starts(std::size_t first_bin, std::size_t bins, do
 }
 
 }  // namespace
+
+std::string design_key(const DecoderDesign& d, int order) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "v%u order=%d method=%s transition=%.17g shadow=%d below=%.17g covariance=%d reg=%.17g length=%zu",
+                unsigned(kDecoderDesignVersion), order, d.method == DecoderMethod::ls ? "ls" : "magls", d.transition_hz,
+                int(d.shadow_weighting), d.shadow_below_db, int(d.diffuse_covariance), d.regularisation, d.length);
+  return buf;
+}
 
 double transition_hz_for(const DecoderDesign& design, int order) {
   if (design.transition_hz > 0.0) return design.transition_hz;

@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "../audio/alloc_counter.hpp"
+#include "earshot/audio/ambisonics/bed_renderer.hpp"
 #include "earshot/audio/ambisonics/binaural_decoder.hpp"
 #include "earshot/audio/ambisonics/binaural_decoder_design.hpp"
+#include "earshot/audio/ambisonics/scene_rotator.hpp"
 #include "earshot/audio/ambisonics/spherical_harmonics.hpp"
 #include "earshot/audio/real_fft.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -219,4 +221,44 @@ TEST(BinauralDecoder, EqualsPlainConvolutionAndNeverAllocates) {
       }
       ASSERT_NEAR(e == 0 ? out_l[n] : out_r[n], y, 2e-4) << "sample " << n << " ear " << e;
     }
+}
+
+TEST(BedRenderer, IsTheRotatorThenTheDecoderAndNeverAllocates) {
+  DecoderFilters f;
+  f.order = 1;
+  f.sample_rate = kRate;
+  f.length = 100;
+  const std::size_t C = 4, B = 32;
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(-1, 1);
+  f.taps.resize(2 * C * f.length);
+  for (float& v : f.taps) v = u(rng) * 0.1f;
+  BedRenderer bed(f, B);
+  SceneRotator rot(1, B);
+  BinauralDecoder dec(f, B);
+  std::vector<float> in(C * B), turned(C * B), l1(B), r1(B), l2(B), r2(B);
+  earshot::testing::AllocationProbe probe;
+  for (int b = 0; b < 8; ++b) {
+    for (float& v : in) v = u(rng);
+    const Quat q = quat_from_ypr(0.1 * b, 0.02 * b, 0);
+    bed.set_orientation(q);
+    bed.process(in, l1, r1);
+    rot.update(q);
+    rot.process(in, turned);
+    dec.process(turned, l2, r2);
+    for (std::size_t n = 0; n < B; ++n) {
+      ASSERT_EQ(l1[n], l2[n]);
+      ASSERT_EQ(r1[n], r2[n]);
+    }
+  }
+  EXPECT_EQ(probe.count(), 0u);
+  EXPECT_EQ(probe.lock_count(), 0u);
+}
+
+TEST(DecoderDesign, KeyNamesEveryInput) {
+  DecoderDesign a, b;
+  b.shadow_below_db = 12.0;
+  EXPECT_NE(design_key(a, 3), design_key(b, 3));
+  EXPECT_NE(design_key(a, 3), design_key(a, 4));
+  EXPECT_EQ(design_key(a, 3), design_key(DecoderDesign{}, 3));
 }

@@ -90,6 +90,14 @@ struct DecoderDesign {
   std::size_t length = 0;
 };
 
+/// The version of what design_binaural_decoder() computes: bump it with any
+/// change to its results, so filters kept on disk are designed again.
+inline constexpr std::uint32_t kDecoderDesignVersion = 1;
+/// Every input of a design in one line (the version, the order and each
+/// field of `design`), for a cache key beside the SOFA file's hash and the
+/// rate.
+[[nodiscard]] std::string design_key(const DecoderDesign& design, int order);
+
 /// The transition frequency `design` means at `order`.
 [[nodiscard]] double transition_hz_for(const DecoderDesign& design, int order);
 

@@ -32,6 +32,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -443,6 +444,33 @@ int main(int argc, char** argv) {
         std::printf("| %s | %d | %s | %.1f | %.1f |\n", kDefault.c_str(), o, turning ? "yawing 360 deg/s" : "static", l, r);
         if (turning && o == 3 && std::max(l, r) > -80.0) failures.push_back("click test above -80 dB at order 3");
       }
+    }
+
+    // Cost: the design (once per set, rate and order) and the rotator +
+    // decoder per block, on this machine (a figure for the integrator, not
+    // a check).
+    std::printf("\nCost on this machine (one thread): the design once per set, rate and order; rotating and decoding "
+                "a %zu-frame block at %.0f Hz with the head moving:\n\n| order | channels | filter taps | design (ms) | "
+                "SceneRotator + BinauralDecoder per block (us) | share of one core |\n|---|---|---|---|---|---|\n",
+                kBlock, kRate);
+    for (int o : orders) {
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto f = ambi::design_binaural_decoder(*set, o, {});
+      const double design_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      ambi::SceneRotator rot(o, kBlock);
+      ambi::BinauralDecoder dec(f, kBlock);
+      std::vector<float> bus(f.channels() * kBlock), turned(bus.size()), l(kBlock), r(kBlock);
+      for (std::size_t i = 0; i < bus.size(); ++i) bus[i] = noise[i % noise.size()];
+      constexpr int kBlocks = 3000;
+      const auto t1 = std::chrono::steady_clock::now();
+      for (int b = 0; b < kBlocks; ++b) {
+        rot.update(quat_from_ypr(0.001 * b, 0.0005 * b, 0.0));
+        rot.process(bus, turned);
+        dec.process(turned, l, r);
+      }
+      const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t1).count() / kBlocks;
+      std::printf("| %d | %zu | %zu | %.0f | %.1f | %.2f%% |\n", o, f.channels(), f.length, design_ms, us,
+                  100.0 * us * 1e-6 / (double(kBlock) / kRate));
     }
 
     if (!csv_path.empty()) {

@@ -17,6 +17,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -410,9 +411,13 @@ TEST(Lv2Plugin, TheTrackedHeadIsPredictedToWhenTheBlockIsHeard) {
   EXPECT_GT(agree, moving * 3 / 4) << agree << " of " << moving << " moving steps lead in the turn's direction";
   ASSERT_GT(sxx, 0.0);
   const double slope = sxy / sxx;  // 1: the gap is the turn over the lead gap
-  // Below 1: the filter's velocity lags the turn a little, and a pose older than
-  // 15 ms is carried at most kMaxHeadPredictionS (60 ms) ahead.
-  EXPECT_GT(slope, 0.25) << "the long-block instance is not ahead of the short-block one";
+  std::printf("lead: %.2f x the turn over the lead gap; %d of %d moving steps ahead in the turn's direction\n", slope,
+              agree, moving);
+  // Below 1 (0.36-0.41 measured): the turn rate is estimated from the short-block
+  // instance's own steps, whose noise dilutes the fit; the filter's velocity lags
+  // the turn a little; and a pose older than 15 ms is carried at most
+  // kMaxHeadPredictionS (60 ms) ahead.
+  EXPECT_GT(slope, 0.2) << "the long-block instance is not ahead of the short-block one";
   EXPECT_LT(slope, 1.6);
   for (Host* h : {&shortb, &longb}) {
     h->control(kTracking) = 0.0f;

@@ -166,8 +166,9 @@ TEST(Osc, MalformedMessagesAreDroppedWithAReason) {
   const std::array<double, 3> three{1, 2, 3};
   EXPECT_FALSE(d.decode(encode_osc("/other/thing", three), &why));
   EXPECT_NE(why.find("not one of ours"), std::string::npos) << why;
-  const std::array<double, 4> notunit{2, 0, 0, 0};
-  EXPECT_FALSE(d.decode(encode_osc("/earshot/quat", notunit), &why));
+  const std::array<double, 4> zero{0, 0, 0, 0};  // a quaternion is normalised; one with no direction is refused
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/quat", zero), &why));
+  EXPECT_NE(why.find("no direction"), std::string::npos) << why;
   const std::array<double, 6> far{100, 0, 0, 0, 0, 0};
   EXPECT_FALSE(d.decode(encode_osc("/earshot/pose/ypr", far), &why));
   const std::array<double, 3> nan{std::nan(""), 0, 0};

@@ -11,6 +11,7 @@
 #include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/tracker/live/tracker_options.hpp"
 #include "tracker_state.hpp"
 
 namespace earshot::plugin {
@@ -203,12 +204,14 @@ void World::reclaim_buffers() {
 
 // ---- tracking ----
 
-void World::attach_tracker(const char* spec) {
+void World::attach_tracker(const char* spec) { attach_tracker(spec, tracker::TrackerOptions{}); }
+
+void World::attach_tracker(const char* spec, const tracker::TrackerOptions& options) {
   tracker_on_.store(false, std::memory_order_release);
   tracker_.reset();  // stops and joins the old one
   if (!spec || !*spec) return;
   try {
-    tracker::LiveConfig cfg;
+    tracker::LiveConfig cfg = tracker::with_options({}, options);  // where the poses go, too
     cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to neutral
     tracker::SourceOptions source;
     source.wait_for_remote = true;  // the host plays on and shows how to pair one (esGetTrackerState)

@@ -10,6 +10,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using namespace earshot::webcam;
+  using earshot::tracker::Vec2;
   try {
     const CameraCalibration c =
         parse_camera_calibration(std::string_view(reinterpret_cast<const char*>(data), size), "fuzz.yml");

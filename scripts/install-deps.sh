@@ -36,7 +36,8 @@ packages=(
   sordi                  # sord_validate, which lv2_validate runs
   lilv-utils jalv        # real LV2 hosts in the tests: lv2apply, lv2bench, jalv on JACK
   liblilv-dev            # lilv, the host library of jalv and lv2apply: the plugin's state saved and restored by it (tests)
-  liblo-tools            # oscsend: an outside OSC sender in the pose-input tests
+  liblo-tools            # oscsend and oscdump: an outside OSC sender and receiver in the pose input and output tests
+  lv2file                # another real LV2 host in the tests (it hands the plugin a feature array with a NULL URI)
   python3-pyglet mpg123 gstreamer1.0-tools gstreamer1.0-plugins-bad gstreamer1.0-plugins-good   # unmodified OpenAL programs for earshot-openal-run's tests (good: lamemp3enc writes their MP3)
 )
 

@@ -29,6 +29,7 @@
 #include "earshot/tracker/live/live_pipeline.hpp"
 #include "earshot/pose_track_csv.hpp"
 #include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/tracker/send/send_spec.hpp"
 #include "demo/audio_output.hpp"
 #include "demo/keys.hpp"
 #include "demo/live_demo.hpp"
@@ -47,6 +48,7 @@ struct DemoArgs {
   bool list_devices = false, no_window = false;
   std::string screenshot;
   std::string listen;  ///< the pose tracker's listen address (--listen)
+  std::vector<std::string> send;  ///< where the tracker also sends its poses (--send)
   std::string why;  ///< why it renders instead of playing (empty: found here)
 };
 
@@ -126,6 +128,7 @@ void run_demo(const DemoArgs& a) {
     demo::LiveOptions o;
     o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtfs = a.hrtfs;
     o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
+    o.send = a.send;
     o.window = !a.no_window, o.screenshot = a.screenshot;
     try {
       const long xruns = demo::run_live(o);
@@ -151,6 +154,9 @@ void run_offline(const DemoArgs& a) {
 
   std::printf("earshot demo: %s; rendering to %s instead of playing.\n",
               a.why.empty() ? why_offline().c_str() : a.why.c_str(), out.c_str());
+  if (!a.send.empty())
+    std::printf("  --send: nothing is sent while rendering to a file (the tracker runs faster than real time);\n"
+                "  `earshot track live --send` sends a tracker's poses without playing\n");
   std::printf("  scene   %s (%zu sources, room %s)\n", scene_file.c_str(), scene.sources.size(), scene.room.c_str());
   const TrackedHead head = track_to_file(a, duration, poses);
   std::printf("  tracker %s: %ld frames, %.1f%% tracked, head yaw %+.0f to %+.0f deg -> %s\n", a.tracker.c_str(),
@@ -190,6 +196,9 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--listen", a->listen,
                    "Pose trackers (opentrack, osc): the IPv4 address to listen on (default 127.0.0.1; 0.0.0.0 for "
                    "every interface: anyone on the network could then turn your head)");
+  demo->add_option("--send", a->send,
+                   "Live: also send the tracker's poses on (repeatable): " + std::string(tracker::kSendSpecs) +
+                       " (docs/OSC.md)");
   demo->add_option("--device", a->device, "Audio output device (name or part of it; see --list-devices)");
   demo->add_flag("--list-devices", a->list_devices, "List the audio output devices and exit");
   demo->add_option("--buffer", a->buffer, "Frames per audio buffer (and plugin block)")
@@ -213,6 +222,7 @@ void add_demo_command(CLI::App& app) {
   demo->callback([a] {
     DemoArgs args = *a;
     if (!args.listen.empty()) args.tracker = tracker::with_listen_address(args.tracker, args.listen, "--tracker", "--listen");
+    for (const std::string& s : args.send) (void)tracker::parse_send_spec(s, "--send");  // a bad spec: an input error now
     run_demo(args);
   });
 }

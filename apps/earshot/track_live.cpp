@@ -2,8 +2,10 @@
 // command line. `live` runs the tracker thread on a source and prints the
 // pose and state as they change (one updating line on a terminal, plain
 // lines otherwise), optionally recording every published pose as a Pose
-// track CSV for `earshot render --pose-track`; `record` writes a camera
-// source's raw dots as a Dots CSV for `track solve` or `--source replay:`.
+// track CSV for `earshot render --pose-track` and sending them on to other
+// programs (--send: OSC for SPARTA, IEM or Earshot, opentrack's packet);
+// `record` writes a camera source's raw dots as a Dots CSV for `track solve`
+// or `--source replay:`.
 #include <unistd.h>
 
 #include <chrono>
@@ -14,6 +16,7 @@
 #include <numbers>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "earshot/errors.hpp"
 #include "earshot/geometry.hpp"
@@ -23,6 +26,7 @@
 #include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/pose_track_csv.hpp"
 #include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/tracker/send/send_spec.hpp"
 #include "track_commands.hpp"
 
 namespace earshot::app {
@@ -41,6 +45,7 @@ struct LiveOptions {
   std::string model_path;
   std::string filter = "eskf";
   std::string listen;  // live: the pose source's listen address (empty: the spec's, 127.0.0.1 by default)
+  std::vector<std::string> send;  // live: where to send the poses (tracker/send/send_spec.hpp)
 };
 
 std::unique_ptr<FrameSource> make_source(const LiveOptions& o, bool camera_only) {
@@ -80,6 +85,7 @@ void run_live(const LiveOptions& o) {
   if (!filter) throw InputError::at("--filter", 0, "", "unknown filter '" + o.filter + "' (none, one-euro, median5, eskf)");
   cfg.tracker.filter = *filter;
   if (!o.model_path.empty()) cfg.model = load_led_model(o.model_path);
+  for (const std::string& spec : o.send) cfg.send.push_back(parse_send_spec(spec, "--send"));
   PoseSlot slot;
   const bool tty = ::isatty(::fileno(stdout)) != 0;
   // SIGINT, SIGTERM and SIGHUP end the loop below; the tracker thread is then
@@ -88,12 +94,14 @@ void run_live(const LiveOptions& o) {
   LiveTracker::Status st;
   std::string last_note;
   std::uint64_t rows = 0;  // written by the tracker thread; read after it is joined
+  std::string sent;        // what the senders did, one line each
   {
     LiveTracker tracker(make_source(o, false), slot, cfg, [&writer, &rows](const HeadPose& p) {
       if (writer && writer->write(p)) ++rows;
     });
     std::fprintf(stderr, "earshot: tracking from %s%s\n", tracker.status().source.c_str(),
                  tty ? " (Ctrl-C to stop)" : "");
+    for (const auto& s : tracker.senders().senders()) std::fprintf(stderr, "earshot: sending poses to %s\n", s->describe().c_str());
     const auto start = clock::now();
     const auto period = std::chrono::milliseconds(tty ? 50 : 100);
     while (tracker.running() && !stop.requested()) {
@@ -112,6 +120,7 @@ void run_live(const LiveOptions& o) {
     }
     tracker.stop();
     st = tracker.status();
+    sent = tracker.senders().summary();
   }
   if (tty) std::fprintf(stdout, "\n");
   if (stop.requested()) std::fprintf(stderr, "earshot: stopped by %s\n", StopSignals::name(stop.signal()));
@@ -121,6 +130,8 @@ void run_live(const LiveOptions& o) {
     std::fprintf(stderr, "earshot: recorded %llu poses to %s\n", static_cast<unsigned long long>(rows),
                  o.record.c_str());
   }
+  for (std::size_t at = 0, nl; (nl = sent.find('\n', at)) != std::string::npos; at = nl + 1)
+    std::fprintf(stderr, "earshot: %s\n", sent.substr(at, nl - at).c_str());
   if (!st.error.empty()) throw std::runtime_error(st.source + ": " + st.error);
   std::fprintf(stderr, "earshot: %llu frames, %llu poses published, %llu malformed inputs dropped, %llu impossible dots rejected\n",
                static_cast<unsigned long long>(st.frames), static_cast<unsigned long long>(st.published),
@@ -174,6 +185,9 @@ void add_track_live_commands(CLI::App& track) {
   live->add_option("--filter", lo->filter, "Pose filter for camera sources: eskf (Kalman, default), one-euro, median5, none")
       ->capture_default_str();
   live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
+  live->add_option("--send", lo->send,
+                   "Send every pose on (repeatable): " + std::string(kSendSpecs) +
+                       "; 127.0.0.1 unless a host is named, at most rate (100) poses a second (docs/OSC.md)");
   add_common(*live, *lo);
   live->callback([lo] { run_live(*lo); });
 

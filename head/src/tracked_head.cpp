@@ -4,15 +4,15 @@
 
 namespace earshot::head {
 
-TrackedHead::TrackedHead(std::string_view spec, PoseSlot& slot, std::string_view field,
-                         tracker::LiveTracker::PoseCallback on_pose)
+TrackedHead::TrackedHead(std::string_view spec, PoseSlot& slot, const tracker::TrackerOptions& options,
+                         std::string_view field, tracker::LiveTracker::PoseCallback on_pose)
     : spec_(spec) {
   const tracker::SourceSpec parsed = tracker::parse_source_spec(spec, field);
-  tracker::SourceOptions options;
-  options.wait_for_remote = true;  // no device yet: the host plays on, the source keeps looking
-  tracker::LiveConfig cfg;
+  tracker::SourceOptions source;
+  source.wait_for_remote = true;  // no device yet: the host plays on, the source keeps looking
+  tracker::LiveConfig cfg = tracker::with_options({}, options);  // where the poses go, too
   cfg.keep_running_after_end = true;  // a replay that ends: hold, then ease to straight ahead
-  auto frames = tracker::make_frame_source(parsed, options);
+  auto frames = tracker::make_frame_source(parsed, source);
   // The camera the dots are in, asked before the tracker thread owns the
   // source: a webcam's opened size, else the configured (Wii) camera. A
   // source of poses has none; a webcam waiting for its device has no size yet.

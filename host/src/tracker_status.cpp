@@ -32,11 +32,14 @@ void TrackerStatus::refresh(ESworld world) {
   if (raw.state == ES_TRACKER_NONE) message.clear();
 }
 
-TrackerStatus attach_tracker(ESworld world, const std::string& spec) {
+TrackerStatus attach_tracker(ESworld world, const std::string& spec, const std::vector<std::string>& send) {
   TrackerStatus t;
   t.spec = spec.empty() ? "none" : spec;
   if (t.spec == "none") return t;
-  if (esAttachTracker(world, spec.c_str()) != ES_OK)
+  std::vector<const char*> options;
+  for (const std::string& s : send) options.insert(options.end(), {"send", s.c_str()});
+  options.push_back(nullptr);
+  if (esAttachTrackerEx(world, spec.c_str(), options.data()) != ES_OK)
     t.failed = esGetErrorMessage(world);
   else
     (void)esRecenter(world);

@@ -25,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -35,11 +36,14 @@
 #include <string>
 
 #include "binaural_panner.hpp"
+#include "bypass.hpp"
+#include "head_controls.hpp"
 #include "panner_switch.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/head/head_reader.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
+#include "features.hpp"
 #include "handoff.hpp"
 #include "shared_tracker.hpp"
 #include "uris.hpp"
@@ -73,11 +77,23 @@ enum Port : std::uint32_t {
   kHeadYaw,
   kHeadPitch,
   kHeadRoll,
+  // Appended (minor version 2): earlier sessions keep their port numbers.
+  kEnabled,      // lv2:enabled: off bypasses (the input, delayed, on both channels)
+  kInvertYaw,    // IEM SceneRotator's switches and rotation order (head_controls.hpp)
+  kInvertPitch,
+  kInvertRoll,
+  kRotationOrder,
+  kOscPort,        // the UDP port of tracker_source osc
+  kOpentrackPort,  // and of tracker_source opentrack
   kPortCount
 };
 
 /// The tracker_source port's choices, in the order of its scale points.
 constexpr std::array<const char*, 4> kTrackerSources{"wiimote", "sim", "opentrack", "osc"};
+
+/// Longest tracker spec and send list the parameters hold (longer ones are
+/// refused, not cut; the buffers are reserved so run() never allocates).
+constexpr std::size_t kMaxSpec = 256;
 
 /// Longest path or spec a message carries (the rest is refused, not cut).
 constexpr std::size_t kMaxText = 4096;
@@ -95,6 +111,7 @@ struct Message {
 /// lives on the heap, so handing it back to the worker frees nothing here).
 struct LeaseHolder {
   std::shared_ptr<TrackerLease> lease;
+  std::string key;  ///< what was asked for: "SPEC" or "SPEC\nSEND"
 };
 
 /// The worker's answer: the slot of a new panner (born_panners_) or tracker
@@ -111,13 +128,13 @@ class Plugin {
  public:
   Plugin(double rate, const LV2_Feature* const* features)
       : rate_(rate), panners_(build_panner(hrtf::HrtfSet::kDefaultPath)) {  // throws: instantiate fails, the host says so
-    const LV2_URID_Map* map = nullptr;
-    for (int i = 0; features && features[i]; ++i) {
-      const std::string_view uri = features[i]->URI;
-      if (uri == LV2_URID__map) map = static_cast<const LV2_URID_Map*>(features[i]->data);
-      if (uri == LV2_WORKER__schedule) schedule_ = static_cast<LV2_Worker_Schedule*>(features[i]->data);
-      if (uri == LV2_LOG__log) log_ = static_cast<LV2_Log_Log*>(features[i]->data);
-    }
+    // features.hpp: entries with a NULL URI (lv2file) are skipped.
+    const auto* map = static_cast<const LV2_URID_Map*>(feature_data(features, LV2_URID__map));
+    schedule_ = static_cast<LV2_Worker_Schedule*>(const_cast<void*>(feature_data(features, LV2_WORKER__schedule)));
+    log_ = static_cast<LV2_Log_Log*>(const_cast<void*>(feature_data(features, LV2_LOG__log)));
+    if (map && !map->map) map = nullptr;  // a map without its function is no map
+    if (schedule_ && !schedule_->schedule_work) schedule_ = nullptr;
+    if (log_ && !log_->printf) log_ = nullptr;
     uris_ = Uris(map);
     map_ = map;
     lv2_log_logger_init(&logger_, const_cast<LV2_URID_Map*>(map), log_);
@@ -131,6 +148,7 @@ class Plugin {
   }
 
   void activate() {
+    bypass_start_ = true;  // the first run() starts where the enabled port asks, unfaded
     panners_.reset();
     if (auto old = panners_.finished()) hand_to_worker(std::move(old));
   }
@@ -160,6 +178,11 @@ class Plugin {
     p.distance_model = static_cast<audio::DistanceModel>(std::clamp(model, 0, 6));
     p.room = static_cast<int>(std::lround(control(kRoom)));
     p.reverb_send_db = control(kReverbSend);
+    const bool enabled = control(kEnabled, 1.0f) > 0.5f;
+    if (bypass_start_) bypass_.reset(enabled);  // nothing was heard yet: nothing to fade from
+    bypass_start_ = false;
+    const HeadControls head_controls{control(kInvertYaw) > 0.5f, control(kInvertPitch) > 0.5f,
+                                     control(kInvertRoll) > 0.5f, control(kRotationOrder) > 0.5f ? 1 : 0};
     // The offsets are the listener's own orientation in the room; the
     // tracked head turns on top of it (as the C API's listener and tracker).
     HeadPose listener;
@@ -168,12 +191,17 @@ class Plugin {
     const HeadPose heard = head::compose(listener, tracked);
     p.head_orientation = heard.orientation;
     p.head_position = heard.position;
+    // SceneRotator's invert switches and rotation order, on the head as composed above.
+    p.head_orientation = adjust_head(p.head_orientation, head_controls);
     panners_.update(p);
 
     const auto* in = static_cast<const float*>(ports_[kIn]);
     auto* left = static_cast<float*>(ports_[kOutLeft]);
     auto* right = static_cast<float*>(ports_[kOutRight]);
-    if (in && left && right) panners_.process(in, left, right, frames);
+    if (in && left && right)
+      bypass_.process(in, left, right, frames, enabled, [this](const float* i, float* l, float* r, std::uint32_t n) {
+        panners_.process(i, l, r, n);
+      });
     if (auto old = panners_.finished()) hand_to_worker(std::move(old));  // faded out: the worker frees it
 
     const YawPitchRoll head = ypr_from_quat(p.head_orientation);
@@ -208,8 +236,16 @@ class Plugin {
         break;
       case Job::start_tracker:
         try {
+          // "SPEC" or "SPEC\nSEND" (wanted_tracker()).
+          const std::string_view text(m.text);
+          const std::size_t nl = text.find('\n');
+          const std::string spec(text.substr(0, nl));
+          const std::string send(nl == std::string_view::npos ? std::string_view() : text.substr(nl + 1));
           auto holder = std::make_unique<LeaseHolder>();
-          holder->lease = SharedTrackers::process().acquire(m.text);
+          std::string note;
+          holder->lease = SharedTrackers::process().acquire(spec, send, &note);
+          holder->key = std::string(text);
+          if (!note.empty()) lv2_log_warning(&logger_, "earshot.lv2: %s\n", note.c_str());
           r.slot = born_holders_.put(holder);
           if (r.slot < 0) return LV2_WORKER_ERR_NO_SPACE;
         } catch (const std::exception& e) {
@@ -240,7 +276,7 @@ class Plugin {
     } else if (r.job == Job::start_tracker) {
       std::unique_ptr<LeaseHolder> next = born_holders_.take(r.slot);
       if (!next) return LV2_WORKER_ERR_UNKNOWN;
-      if (tracker_requested_ == next->lease->head->spec()) {
+      if (tracker_requested_ == next->key) {
         std::swap(holder_, next);
       }
       if (next) hand_to_worker(std::move(next));
@@ -251,24 +287,20 @@ class Plugin {
   // ---- state (instantiation class) ----
   LV2_State_Status save(LV2_State_Store_Function store, LV2_State_Handle handle, const LV2_Feature* const* features) {
     if (!map_) return LV2_STATE_ERR_NO_FEATURE;
-    const LV2_State_Map_Path* map_path = nullptr;
-    const LV2_State_Free_Path* free_path = nullptr;
-    for (int i = 0; features && features[i]; ++i) {
-      if (std::string_view(features[i]->URI) == LV2_STATE__mapPath)
-        map_path = static_cast<const LV2_State_Map_Path*>(features[i]->data);
-      if (std::string_view(features[i]->URI) == LV2_STATE__freePath)
-        free_path = static_cast<const LV2_State_Free_Path*>(features[i]->data);
-    }
+    const auto* map_path = static_cast<const LV2_State_Map_Path*>(feature_data(features, LV2_STATE__mapPath));
+    const auto* free_path = static_cast<const LV2_State_Free_Path*>(feature_data(features, LV2_STATE__freePath));
     const std::string& path = panners_.current().hrtf_path();
-    char* abstract = map_path ? map_path->abstract_path(map_path->handle, path.c_str()) : nullptr;
+    char* abstract = map_path && map_path->abstract_path ? map_path->abstract_path(map_path->handle, path.c_str()) : nullptr;
     const char* stored = abstract ? abstract : path.c_str();
     store(handle, uris_.sofa, stored, std::strlen(stored) + 1, uris_.atom_path,
           LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
     if (abstract) {
-      if (free_path) free_path->free_path(free_path->handle, abstract);
+      if (free_path && free_path->free_path) free_path->free_path(free_path->handle, abstract);
       else std::free(abstract);  // NOLINT: the host allocated it with malloc (LV2 state before freePath)
     }
     store(handle, uris_.tracker, tracker_spec_.c_str(), tracker_spec_.size() + 1, uris_.atom_string,
+          LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
+    store(handle, uris_.send, send_spec_.c_str(), send_spec_.size() + 1, uris_.atom_string,
           LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
     return LV2_STATE_SUCCESS;
   }
@@ -276,17 +308,22 @@ class Plugin {
   LV2_State_Status restore(LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle,
                            const LV2_Feature* const* features) {
     if (!map_) return LV2_STATE_ERR_NO_FEATURE;
-    const LV2_State_Map_Path* map_path = nullptr;
-    for (int i = 0; features && features[i]; ++i)
-      if (std::string_view(features[i]->URI) == LV2_STATE__mapPath)
-        map_path = static_cast<const LV2_State_Map_Path*>(features[i]->data);
+    const auto* map_path = static_cast<const LV2_State_Map_Path*>(feature_data(features, LV2_STATE__mapPath));
     std::size_t size = 0;
     std::uint32_t type = 0, flags = 0;
-    if (const void* v = retrieve(handle, uris_.tracker, &size, &type, &flags); v && type == uris_.atom_string)
-      tracker_spec_.assign(static_cast<const char*>(v), strnlen(static_cast<const char*>(v), size));
+    // Restored strings keep the reserved capacity (reserved() below): run()
+    // never allocates for them; one too long for it is refused.
+    if (const void* v = retrieve(handle, uris_.tracker, &size, &type, &flags); v && type == uris_.atom_string) {
+      const std::size_t n = strnlen(static_cast<const char*>(v), size);
+      if (n < kMaxSpec) tracker_spec_.assign(static_cast<const char*>(v), n);
+    }
+    if (const void* v = retrieve(handle, uris_.send, &size, &type, &flags); v && type == uris_.atom_string) {
+      const std::string_view sv(static_cast<const char*>(v), strnlen(static_cast<const char*>(v), size));
+      if (sv.size() < kMaxSpec && sv.find('\n') == std::string_view::npos) send_spec_.assign(sv);
+    }
     if (const void* v = retrieve(handle, uris_.sofa, &size, &type, &flags); v && type == uris_.atom_path) {
       std::string path(static_cast<const char*>(v), strnlen(static_cast<const char*>(v), size));
-      if (map_path) {
+      if (map_path && map_path->absolute_path) {
         if (char* absolute = map_path->absolute_path(map_path->handle, path.c_str())) {
           path = absolute;
           std::free(absolute);  // NOLINT: allocated by the host with malloc
@@ -315,9 +352,12 @@ class Plugin {
     return std::make_unique<BinauralPanner>(hrtf, rate_, path);
   }
 
-  [[nodiscard]] float control(Port p) const {
+  /// A control port's value; `fallback` when the host left it unconnected
+  /// (connectionOptional is not declared, but hosts such as lv2file with
+  /// an older turtle may still leave new ports out) or it is not finite.
+  [[nodiscard]] float control(Port p, float fallback = 0.0f) const {
     const auto* v = static_cast<const float*>(ports_[p]);
-    return v && std::isfinite(*v) ? *v : 0.0f;
+    return v && std::isfinite(*v) ? *v : fallback;
   }
   void set_output(Port p, float value) {
     if (auto* v = static_cast<float*>(ports_[p])) *v = value;
@@ -357,12 +397,32 @@ class Plugin {
                                     &m) == LV2_WORKER_SUCCESS;
   }
 
-  /// The tracker the ports ask for: none, the state's spec, or the source port's.
-  [[nodiscard]] std::string_view wanted_tracker() const {
-    if (control(kTracking) <= 0.5f) return {};
-    if (!tracker_spec_.empty()) return tracker_spec_;
-    const int i = static_cast<int>(std::lround(control(kTrackerSource)));
-    return kTrackerSources[static_cast<std::size_t>(std::clamp(i, 0, 3))];
+  /// What the ports ask for: "" (no tracker), or the tracker spec (the
+  /// state's, else the source port's with its port number) and, after a
+  /// newline, where it sends its poses. Built in want_, whose capacity is
+  /// reserved: no allocation.
+  [[nodiscard]] std::string_view wanted_tracker() {
+    want_.clear();
+    if (control(kTracking) <= 0.5f) return want_;
+    if (!tracker_spec_.empty()) {
+      want_.append(tracker_spec_);
+    } else {
+      const int i = std::clamp(static_cast<int>(std::lround(control(kTrackerSource))), 0, 3);
+      want_.append(kTrackerSources[static_cast<std::size_t>(i)]);
+      if (i >= 2) {  // opentrack, osc: on the port its own port asks for
+        const float fallback = i == 2 ? 4242.0f : 9000.0f;
+        const long port = std::clamp(std::lround(control(i == 2 ? kOpentrackPort : kOscPort, fallback)), 1L, 65535L);
+        std::array<char, 8> digits{};
+        const auto r = std::to_chars(digits.data(), digits.data() + digits.size(), port);
+        want_.push_back(':');
+        want_.append(digits.data(), r.ptr);
+      }
+    }
+    if (!send_spec_.empty()) {
+      want_.push_back('\n');
+      want_.append(send_spec_);
+    }
+    return want_;
   }
 
   /// Starts or drops the tracker when the ports changed what they ask for.
@@ -395,6 +455,7 @@ class Plugin {
       if (obj->body.otype == uris_.patch_get) {
         announce_sofa_ = true;
         announce_tracker_ = true;
+        announce_send_ = true;
         continue;
       }
       if (obj->body.otype != uris_.patch_set) continue;
@@ -413,8 +474,11 @@ class Plugin {
       if (key == uris_.sofa && value->type == uris_.atom_path) {
         (void)schedule(Job::load_hrtf, s);
       } else if (key == uris_.tracker && value->type == uris_.atom_string) {
-        if (s.size() < tracker_spec_.capacity()) tracker_spec_.assign(s);  // capacity reserved: no allocation
+        if (s.size() < kMaxSpec) tracker_spec_.assign(s);  // capacity reserved: no allocation
         announce_tracker_ = true;
+      } else if (key == uris_.send && value->type == uris_.atom_string) {
+        if (s.size() < kMaxSpec && s.find('\n') == std::string_view::npos) send_spec_.assign(s);
+        announce_send_ = true;
       }
     }
   }
@@ -429,7 +493,8 @@ class Plugin {
     lv2_atom_forge_sequence_head(&forge_, &seq_frame, 0);
     if (announce_sofa_) announce(uris_.sofa, uris_.atom_path, panners_.current().hrtf_path());
     if (announce_tracker_) announce(uris_.tracker, uris_.atom_string, tracker_spec_);
-    announce_sofa_ = announce_tracker_ = false;
+    if (announce_send_) announce(uris_.send, uris_.atom_string, send_spec_);
+    announce_sofa_ = announce_tracker_ = announce_send_ = false;
     lv2_atom_forge_pop(&forge_, &seq_frame);
   }
 
@@ -461,11 +526,15 @@ class Plugin {
   Handoff<LeaseHolder, kSlots> born_holders_, dead_holders_;
   std::unique_ptr<BinauralPanner> parked_panner_;
   std::unique_ptr<LeaseHolder> parked_holder_;
-  std::string tracker_spec_ = reserved(256);       // from state or patch:Set; "" = the source port
-  std::string tracker_requested_ = reserved(256);  // what run() last asked the worker for
+  std::string tracker_spec_ = reserved(kMaxSpec);  // from state or patch:Set; "" = the source port
+  std::string send_spec_ = reserved(kMaxSpec);     // where the tracker sends its poses; "" = nowhere
+  std::string want_ = reserved(3 * kMaxSpec);      // wanted_tracker()'s text
+  std::string tracker_requested_ = reserved(3 * kMaxSpec);  // what run() last asked the worker for
   head::HeadReader head_reader_;  // audio thread
   bool recenter_was_ = false;
-  bool announce_sofa_ = false, announce_tracker_ = false;
+  bool announce_sofa_ = false, announce_tracker_ = false, announce_send_ = false;
+  Bypass bypass_{BinauralPanner::kBlock};
+  bool bypass_start_ = true;
 
   static std::string reserved(std::size_t n) {
     std::string s;
@@ -480,13 +549,11 @@ LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char*, const LV
   try {
     return std::make_unique<Plugin>(rate, features).release();  // owned by the host until cleanup
   } catch (const std::exception& e) {
-    for (int i = 0; features && features[i]; ++i)
-      if (std::string_view(features[i]->URI) == LV2_LOG__log) {
-        auto* log = static_cast<LV2_Log_Log*>(features[i]->data);
-        LV2_Log_Logger logger{};
-        lv2_log_logger_init(&logger, nullptr, log);
-        lv2_log_error(&logger, "earshot.lv2: %s\n", e.what());
-      }
+    if (auto* log = static_cast<LV2_Log_Log*>(const_cast<void*>(feature_data(features, LV2_LOG__log)))) {
+      LV2_Log_Logger logger{};
+      lv2_log_logger_init(&logger, nullptr, log);
+      lv2_log_error(&logger, "earshot.lv2: %s\n", e.what());
+    }
     return nullptr;
   }
 }

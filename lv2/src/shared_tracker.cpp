@@ -1,6 +1,7 @@
 #include "shared_tracker.hpp"
 
 #include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/tracker/send/send_spec.hpp"
 
 namespace earshot::lv2 {
 
@@ -9,12 +10,23 @@ SharedTrackers& SharedTrackers::process() {
   return registry;
 }
 
-std::shared_ptr<TrackerLease> SharedTrackers::acquire(const std::string& spec) {
-  (void)tracker::parse_source_spec(spec, "tracker");  // a bad spec throws before anything is registered
+std::shared_ptr<TrackerLease> SharedTrackers::acquire(const std::string& spec, const std::string& send,
+                                                     std::string* note) {
+  // A bad spec or send list throws before anything is registered.
+  (void)tracker::parse_source_spec(spec, "tracker");
+  tracker::TrackerOptions options;
+  options.send = tracker::parse_send_list(send, "send");
   std::lock_guard lock(mutex_);
-  if (auto held = leases_[spec].lock()) return held;
+  if (auto held = leases_[spec].lock()) {
+    if (note && held->send != send)
+      *note = "tracker '" + spec + "' already runs in this process, sending to '" + held->send +
+              "' (another instance started it); instances that share a tracker share where it sends, so '" + send +
+              "' is not used";
+    return held;
+  }
   auto lease = std::make_shared<TrackerLease>();
-  lease->head = std::make_unique<head::TrackedHead>(spec, lease->slot);
+  lease->send = send;
+  lease->head = std::make_unique<head::TrackedHead>(spec, lease->slot, options);
   leases_[spec] = lease;
   return lease;
 }

@@ -21,6 +21,7 @@ namespace earshot::lv2 {
 
 /// One running tracker and the slot it publishes into.
 struct TrackerLease {
+  std::string send;  ///< where it sends its poses (tracker/send's ';' list), as it was started
   PoseSlot slot;  // declared before the tracker: it outlives the tracker thread
   std::unique_ptr<head::TrackedHead> head;
 };
@@ -31,9 +32,15 @@ class SharedTrackers {
   static SharedTrackers& process();
 
   /// The running tracker for `spec` (tracker/live/source_spec.hpp, e.g. "wiimote",
-  /// "osc:9000"), started if no instance holds one. Throws InputError for a
-  /// bad spec and what the source throws (e.g. a UDP port in use).
-  [[nodiscard]] std::shared_ptr<TrackerLease> acquire(const std::string& spec);
+  /// "osc:9000"), started if no instance holds one, sending its poses to
+  /// `send` (tracker/send/send_spec.hpp, ';'-separated; "" nowhere). Throws
+  /// InputError for a bad spec or send list and what the source or a sender
+  /// throws (a UDP port in use, a host that does not resolve).
+  /// One tracker per spec: instances sharing it share where it sends. The
+  /// first to start it decides; a later one asking another send list gets
+  /// the running tracker and a `note` saying so (for the host's log).
+  [[nodiscard]] std::shared_ptr<TrackerLease> acquire(const std::string& spec, const std::string& send = {},
+                                                      std::string* note = nullptr);
 
   /// Trackers running now (tests).
   [[nodiscard]] std::size_t running();

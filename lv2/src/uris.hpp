@@ -11,11 +11,13 @@ namespace earshot::lv2 {
 #define EARSHOT_LV2_URI "urn:earshot:lv2:panner"
 #define EARSHOT_LV2_SOFA EARSHOT_LV2_URI "#sofa"        /* atom:Path: the HRTF set */
 #define EARSHOT_LV2_TRACKER EARSHOT_LV2_URI "#tracker"  /* atom:String: a full tracker spec */
+#define EARSHOT_LV2_PROJECT "urn:earshot:lv2:project"  /* the bundle's doap:Project */
+#define EARSHOT_LV2_SEND EARSHOT_LV2_URI "#send"        /* atom:String: where the tracker sends its poses */
 
 struct Uris {
   LV2_URID atom_path = 0, atom_string = 0, atom_urid = 0, atom_resource = 0, atom_object = 0, atom_sequence = 0;
   LV2_URID patch_set = 0, patch_get = 0, patch_property = 0, patch_value = 0;
-  LV2_URID sofa = 0, tracker = 0;
+  LV2_URID sofa = 0, tracker = 0, send = 0;
 
   explicit Uris(const LV2_URID_Map* m) {
     if (!m) return;
@@ -32,6 +34,7 @@ struct Uris {
     patch_value = map(LV2_PATCH__value);
     sofa = map(EARSHOT_LV2_SOFA);
     tracker = map(EARSHOT_LV2_TRACKER);
+    send = map(EARSHOT_LV2_SEND);
   }
 };
 

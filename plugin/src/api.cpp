@@ -18,10 +18,14 @@
 #include <new>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/earshot.h"
+#include "earshot/errors.hpp"
 #include "earshot/geometry.hpp"
+#include "earshot/tracker/live/tracker_options.hpp"
 #include "world.hpp"
 
 namespace earshot::plugin {
@@ -745,6 +749,30 @@ ES_API ESenum esAttachTracker(ESworld h, const char* spec) {
   });
 }
 
+ES_API ESenum esAttachTrackerEx(ESworld h, const char* spec, const char* const* options) {
+  return control(h, "esAttachTrackerEx", [&](World& w) -> ESenum {
+    // The pairs as strings; their meaning is the tracker library's (one
+    // parser for every host: tracker/live/tracker_options.hpp).
+    std::vector<std::pair<std::string, std::string>> pairs;
+    for (std::size_t i = 0; options && options[i]; i += 2) {
+      if (pairs.size() == ES_TRACKER_MAX_OPTIONS)
+        return fail(w, ES_INVALID_VALUE,
+                    format("esAttachTrackerEx: more than %d options (is the list NULL-terminated?)", ES_TRACKER_MAX_OPTIONS));
+      if (!options[i + 1])
+        return fail(w, ES_INVALID_VALUE, format("esAttachTrackerEx: option '%s' has no value (NULL)", options[i]));
+      pairs.emplace_back(options[i], options[i + 1]);
+    }
+    earshot::tracker::TrackerOptions parsed;
+    try {
+      parsed = earshot::tracker::parse_tracker_options(pairs, "esAttachTrackerEx");
+    } catch (const earshot::InputError& e) {
+      return fail(w, ES_INVALID_VALUE, e.what());
+    }
+    w.attach_tracker(spec, parsed);
+    return ES_OK;
+  });
+}
+
 ES_API ESenum esWorldHrtf(ESworld h, const char* sofa_path) {
   return control(h, "esWorldHrtf", [&](World& w) -> ESenum {
     w.set_hrtf(sofa_path);  // Failure(ES_HRTF_ERROR) names the file
@@ -836,6 +864,7 @@ constexpr ESproctable kTable = {
     esGetTrackerState,  // ABI 1.1
     esWorldHrtf,        // ABI 1.2
     esGetTrackerImage,  // ABI 1.3
+    esAttachTrackerEx,  // ABI 1.4
 };
 }  // namespace
 

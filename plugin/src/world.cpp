@@ -11,6 +11,7 @@
 #include "earshot/tracker/live/live_tracker.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/tracker/live/source_spec.hpp"
+#include "earshot/tracker/live/tracker_options.hpp"
 #include "tracker_state.hpp"
 
 namespace earshot::plugin {
@@ -201,12 +202,14 @@ void World::reclaim_buffers() {
 
 // ---- tracking ----
 
-void World::attach_tracker(const char* spec) {
+void World::attach_tracker(const char* spec) { attach_tracker(spec, tracker::TrackerOptions{}); }
+
+void World::attach_tracker(const char* spec, const tracker::TrackerOptions& options) {
   tracker_on_.store(false, std::memory_order_release);
   tracker_.reset();  // stops and joins the old one
   if (!spec || !*spec) return;
   try {
-    tracker_ = std::make_unique<head::TrackedHead>(spec, tracker_slot_);
+    tracker_ = std::make_unique<head::TrackedHead>(spec, tracker_slot_, options);
   } catch (const std::exception& e) {
     throw Failure{ES_TRACKER_ERROR, std::string("tracker '") + spec + "': " + e.what()};
   }

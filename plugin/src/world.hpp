@@ -131,6 +131,8 @@ class World {
                                kFadeFrames = audio::CrossfadeSwitch<audio::Renderer>::kFade;
 
   void attach_tracker(const char* spec);  ///< throws Failure
+  /// With options (esAttachTrackerEx: where to send the poses); throws Failure.
+  void attach_tracker(const char* spec, const tracker::TrackerOptions& options);
   void recenter();
   /// The tracker's status for the host (locks the tracker's status mutex,
   /// shared with the tracker thread only). Writes all of `out` but its size.

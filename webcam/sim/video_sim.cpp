@@ -52,7 +52,12 @@ class ValueNoise {
 
 tracker::Camera video_camera(const VideoSimConfig& cfg) {
   const double f = 0.5 * cfg.width / std::tan(0.5 * cfg.hfov_deg * kDeg);
-  return tracker::Camera::with_focal(f, cfg.width, cfg.height);
+  // Centred under the pixel convention the renderer draws with (pixel
+  // centres at whole numbers), as a webcam source without a calibration assumes.
+  tracker::Camera c = tracker::Camera::with_focal(f, cfg.width, cfg.height);
+  c.cx = (cfg.width - 1) / 2.0;
+  c.cy = (cfg.height - 1) / 2.0;
+  return c;
 }
 
 tracker::LedModel video_model(const VideoSimConfig& cfg) {

@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
@@ -181,7 +182,7 @@ tracker::Vec2 CameraCalibration::distort(const tracker::Vec2& px) const {
   return {fx * xd + cx, fy * yd + cy};
 }
 
-tracker::Vec2 CameraCalibration::undistort(const tracker::Vec2& px, int iterations) const {
+tracker::Vec2 CameraCalibration::undistort_fixed_point(const tracker::Vec2& px, int iterations) const {
   if (!distorted() || !px.allFinite()) return px;
   const auto& d = distortion;
   const double x0 = (px.x() - cx) / fx, y0 = (px.y() - cy) / fy;
@@ -198,6 +199,47 @@ tracker::Vec2 CameraCalibration::undistort(const tracker::Vec2& px, int iteratio
   }
   const tracker::Vec2 out(fx * x + cx, fy * y + cy);
   return out.allFinite() ? out : px;
+}
+
+std::optional<tracker::Vec2> CameraCalibration::undistort(const tracker::Vec2& px) const {
+  if (!px.allFinite()) return std::nullopt;
+  if (!distorted()) return px;
+  // Start where OpenCV's fixed point gets in a few steps (close for gentle
+  // lenses), then Newton's method on distort(u) = px, with the Jacobian by
+  // central differences, halving a step that does not reduce the residual.
+  // A strong barrel lens (k1 = -0.44) leaves the fixed point pixels off in
+  // the corners after 20 steps; Newton reaches 1e-6 px in a handful.
+  tracker::Vec2 u = undistort_fixed_point(px, 5);
+  if (!u.allFinite()) u = px;
+  const double h = 1e-6 * std::max(fx, fy);  // a millionth of a focal length, in pixels
+  auto residual = [&](const tracker::Vec2& v) { return tracker::Vec2(distort(v) - px); };
+  tracker::Vec2 r = residual(u);
+  for (int i = 0; i < 60 && r.allFinite(); ++i) {
+    if (r.norm() <= kUndistortTolerancePx) {
+      // On the unfolded branch: the model must still preserve orientation here.
+      const tracker::Vec2 jx = (distort(u + tracker::Vec2(h, 0)) - distort(u - tracker::Vec2(h, 0))) / (2 * h);
+      const tracker::Vec2 jy = (distort(u + tracker::Vec2(0, h)) - distort(u - tracker::Vec2(0, h))) / (2 * h);
+      if (!(jx.x() * jy.y() - jx.y() * jy.x() > 0.0)) return std::nullopt;
+      return u;
+    }
+    const tracker::Vec2 jx = (distort(u + tracker::Vec2(h, 0)) - distort(u - tracker::Vec2(h, 0))) / (2 * h);
+    const tracker::Vec2 jy = (distort(u + tracker::Vec2(0, h)) - distort(u - tracker::Vec2(0, h))) / (2 * h);
+    const double det = jx.x() * jy.y() - jx.y() * jy.x();
+    if (!(det > 0.0) || !std::isfinite(det)) return std::nullopt;  // folded: no unique ideal pixel here
+    const tracker::Vec2 step((jy.y() * r.x() - jy.x() * r.y()) / det, (-jx.y() * r.x() + jx.x() * r.y()) / det);
+    double scale = 1.0;
+    tracker::Vec2 next = u - step;
+    tracker::Vec2 rn = residual(next);
+    for (int k = 0; k < 20 && !(rn.allFinite() && rn.norm() < r.norm()); ++k) {
+      scale *= 0.5;
+      next = u - scale * step;
+      rn = residual(next);
+    }
+    if (!(rn.allFinite() && rn.norm() < r.norm())) return std::nullopt;  // no way down: not invertible here
+    u = next;
+    r = rn;
+  }
+  return std::nullopt;
 }
 
 CameraCalibration parse_camera_calibration(std::string_view text, std::string_view origin) {

@@ -77,24 +77,67 @@ bool WebcamSource::open(std::string& why) {
   return true;
 }
 
+tracker::Camera centred_camera(double f, int width, int height) {
+  tracker::Camera c = tracker::Camera::with_focal(f, width, height);
+  // Pixel centres at whole numbers: the centre of W pixels is (W - 1) / 2.
+  c.cx = (width - 1) / 2.0;
+  c.cy = (height - 1) / 2.0;
+  return c;
+}
+
+UndistortedImage undistorted_image(const CameraCalibration& lens, int width, int height) {
+  // The raw image's border, every few pixels, and its corners: where the
+  // lens sends them is the ideal image's extent (a barrel lens pushes the
+  // corners out; a pincushion one pulls the edges in, and the raw image's
+  // own rectangle is kept).
+  double x0 = 0.0, y0 = 0.0, x1 = width - 1.0, y1 = height - 1.0;
+  auto take = [&](double x, double y) {
+    if (const auto u = lens.undistort(tracker::Vec2(x, y))) {
+      x0 = std::min(x0, u->x()), x1 = std::max(x1, u->x());
+      y0 = std::min(y0, u->y()), y1 = std::max(y1, u->y());
+    }
+  };
+  constexpr int kStep = 4;
+  for (int x = 0; x < width; x += kStep) take(x, 0), take(x, height - 1.0);
+  for (int y = 0; y < height; y += kStep) take(0, y), take(width - 1.0, y);
+  take(width - 1.0, height - 1.0);
+  UndistortedImage out;
+  out.offset = tracker::Vec2(-std::floor(x0), -std::floor(y0));
+  out.width = static_cast<int>(std::ceil(x1 + out.offset.x())) + 1;
+  out.height = static_cast<int>(std::ceil(y1 + out.offset.y())) + 1;
+  return out;
+}
+
 void WebcamSource::set_camera_model(int width, int height) {
   lens_.reset();
+  offset_ = tracker::Vec2::Zero();
   if (calib_) {
     const CameraCalibration c = calib_->scaled_to(width, height, spec_.calib);
     tracker::Camera cam = c.camera(width, height);
     if (spec_.focal_px) cam.fx = cam.fy = *spec_.focal_px;
-    if (c.distorted()) lens_ = c;
+    if (c.distorted()) {
+      // The dots are undistorted into the ideal camera's pixels; corners
+      // the lens moves beyond the raw image are still in its view, so the
+      // ideal image grows to hold them (shifted so it starts at 0, 0).
+      lens_ = c;
+      const UndistortedImage u = undistorted_image(c, width, height);
+      offset_ = u.offset;
+      cam.cx += u.offset.x();
+      cam.cy += u.offset.y();
+      cam.width = u.width;
+      cam.height = u.height;
+    }
     camera_ = cam;
     camera_note_ = "camera model from " + spec_.calib + (spec_.focal_px ? " (focal length from focal=)" : "");
     return;
   }
   if (spec_.focal_px) {
-    camera_ = tracker::Camera::with_focal(*spec_.focal_px, width, height);
+    camera_ = centred_camera(*spec_.focal_px, width, height);
     camera_note_ = "focal length " + std::to_string(static_cast<int>(std::lround(*spec_.focal_px))) + " px (focal=)";
     return;
   }
   const double f = focal_from_fov(width, kGuessedFovDeg);
-  camera_ = tracker::Camera::with_focal(f, width, height);
+  camera_ = centred_camera(f, width, height);
   camera_note_ = "focal length guessed (" + std::to_string(static_cast<int>(std::lround(f))) +
                  " px, a 60 deg horizontal field of view): distances and positions are only roughly right; give "
                  "focal=PIXELS or calib=FILE (OpenCV's calibration YAML) for accurate ones";
@@ -180,7 +223,9 @@ tracker::SourceEvent WebcamSource::frame_event(const GrayView& view, double t) {
   for (int k = 0; k < n; ++k) {
     const auto& p = d.points[static_cast<std::size_t>(k)];
     const tracker::Vec2 px(p.x, p.y);
-    f.dots.slots[static_cast<std::size_t>(k)] = lens_ ? lens_->undistort(px) : px;
+    // A dot the lens model cannot undistort (it folds there) is no dot.
+    if (!lens_) f.dots.slots[static_cast<std::size_t>(k)] = px;
+    else if (const auto u = lens_->undistort(px)) f.dots.slots[static_cast<std::size_t>(k)] = tracker::Vec2(*u + offset_);
     f.dot_size[static_cast<std::size_t>(k)] =
         std::isfinite(p.size) ? static_cast<int>(std::lround(std::clamp(p.size, 0.0, 1e6))) : -1;
   }

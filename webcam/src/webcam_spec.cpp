@@ -57,7 +57,8 @@ WebcamSpec parse_webcam_spec(std::string_view spec, std::string_view field, std:
       else throw fail("bad beacon '" + v + "' (leds or apriltag)");
     } else if (key == "size_mm") {
       if (!parse_number(value, w.size_mm) || !std::isfinite(w.size_mm) || w.size_mm < 5.0 || w.size_mm > 1000.0)
-        throw fail("bad size_mm '" + v + "' (the tag's black square in mm, 5-1000)");
+        throw fail("bad size_mm '" + v + "' (mm, 5-1000: the side of the square the detector finds, the outside of "
+                   "tag36h11's black border, the inside of tagStandard41h12's black ring)");
       tag_option = true;
     } else if (key == "family") {
       w.family = v;

@@ -16,6 +16,7 @@ struct LiveOptions {
   /// SOFA sets to switch among with 'h' (esWorldHrtf); the first plays at
   /// the start; "" or none: MIT KEMAR.
   std::vector<std::string> hrtfs;
+  std::vector<std::string> send;  ///< where the tracker also sends its poses (--send)
   unsigned long buffer = 128;
   double duration = -1;                 ///< seconds; <= 0: until 'q' / Ctrl-C
   std::filesystem::path capture;        ///< WAV of what the callback wrote

@@ -86,7 +86,7 @@ LiveSession::LiveSession(NamedScene first, const LiveOptions& o)
     if (rooms_[i] == first.scene.room) room_pick_ = i;
   sources_.load(std::move(first.scene));
 
-  tracker_ = host::attach_tracker(world_.id(), o.tracker);
+  tracker_ = host::attach_tracker(world_.id(), o.tracker, o.send);
   if (!tracker_.failed.empty())
     std::fprintf(stderr, "earshot demo: tracker %s failed: %s; the head is held straight\n", o.tracker.c_str(),
                  tracker_.failed.c_str());

@@ -66,8 +66,8 @@ extern "C" {
  * minor version only appends functions to the table; a new major one breaks
  * it. */
 #define ES_ABI_VERSION_MAJOR 1u
-#define ES_ABI_VERSION_MINOR 3u /* 1: esGetTrackerState; 2: esWorldHrtf;
-                                  * 3: esGetTrackerImage */
+#define ES_ABI_VERSION_MINOR 4u /* 1: esGetTrackerState; 2: esWorldHrtf;
+                                  * 3: esGetTrackerImage; 4: esAttachTrackerEx */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
 /* The file name to dlopen: the soname, which changes with the major version
  * (plugin/CMakeLists.txt reads both from this header, so they cannot drift). */
@@ -383,6 +383,29 @@ typedef struct EStrackerimage {
  * source's picture lock: call it at a UI's frame rate. Control thread. */
 ES_API ESenum esGetTrackerImage(ESworld world, EStrackerimage *image);
 
+/* ---- Tracker options (esAttachTrackerEx, ABI 1.4) --------------------- */
+/* esAttachTracker with options, given OpenAL's way (alcCreateContext's
+ * attribute list): `options` is a list of name/value string pairs ending
+ * with a NULL name, e.g.
+ *
+ *   const char *opts[] = {"send", "osc:127.0.0.1:9000,format=sparta",
+ *                         "send", "opentrack", NULL};
+ *   esAttachTrackerEx(world, "webcam:0,beacon=apriltag", opts);
+ *
+ * Names (docs/PLUGIN.md, "Tracker options"):
+ *   "send"  send every pose the tracker publishes on to another program:
+ *           "osc[:HOST][:PORT][,format=earshot|sparta|iem|iem-ypr][,rate=HZ]"
+ *           or "opentrack[:HOST][:PORT][,rate=HZ]" (docs/OSC.md, "Sending
+ *           poses"); 127.0.0.1 unless a host is named; at most rate (default
+ *           100) poses a second, sent from the tracker's thread without
+ *           blocking it. Repeatable.
+ * NULL options: as esAttachTracker. An unknown name, a bad value or more
+ * than ES_TRACKER_MAX_OPTIONS pairs: ES_INVALID_VALUE (esGetErrorMessage
+ * names it) and the current tracker stays; a host that does not resolve:
+ * ES_TRACKER_ERROR. Control thread. */
+#define ES_TRACKER_MAX_OPTIONS 64
+ES_API ESenum esAttachTrackerEx(ESworld world, const char *spec, const char *const *options);
+
 /* One block: block_size frames into left and right. The audio thread. */
 ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
 
@@ -436,6 +459,8 @@ typedef struct ESproctable {
   ESenum (*WorldHrtf)(ESworld, const char *);
   /* ABI 1.3 */
   ESenum (*GetTrackerImage)(ESworld, EStrackerimage *);
+  /* ABI 1.4 */
+  ESenum (*AttachTrackerEx)(ESworld, const char *, const char *const *);
 } ESproctable;
 
 /* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),

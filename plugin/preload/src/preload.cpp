@@ -311,7 +311,8 @@ class Shim {
         // Under mu_: the first pose's callback waits until tracker_ is set.
         std::lock_guard lock(mu_);
         tracker_ = std::make_unique<earshot::head::TrackedHead>(
-            spec, slot_, "EARSHOT_OPENAL_TRACKER", [this](const earshot::HeadPose& pose) { on_pose(pose); });
+            spec, slot_, earshot::tracker::TrackerOptions{}, "EARSHOT_OPENAL_TRACKER",
+            [this](const earshot::HeadPose& pose) { on_pose(pose); });
         if (verbose()) std::fprintf(stderr, "%stracker \"%s\" started\n", kPrefix, spec.c_str());
       } catch (const std::exception& ex) {
         std::fprintf(stderr, "%scannot start the tracker \"%s\": %s; playing on without head tracking\n", kPrefix,

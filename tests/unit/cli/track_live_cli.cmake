@@ -39,3 +39,23 @@ execute_process(COMMAND ${EARSHOT} track record --source osc --out ${WORK}/x.csv
 if(NOT rc EQUAL 2 OR NOT err MATCHES "sends poses, not dots")
   message(FATAL_ERROR "record from a pose source not refused clearly (${rc}): ${err}")
 endif()
+# --send: where the poses go, said at the start and counted at the end; a bad
+# spec is an input error naming --send and the spec; a host that does not
+# resolve ends the run with a message, before tracking starts. (Nothing
+# listens on these ports: UDP needs no one to take the datagrams.)
+execute_process(COMMAND ${EARSHOT} track live --source replay:${WORK}/dots.csv --fast
+                        --send osc:127.0.0.1:39871,format=sparta --send opentrack:39872,rate=50
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 120)
+if(NOT rc EQUAL 0 OR NOT err MATCHES "sending poses to osc 127.0.0.1:39871 \\(sparta, 100/s\\)"
+   OR NOT err MATCHES "sending poses to opentrack 127.0.0.1:39872 \\(50/s\\)" OR NOT err MATCHES "sent [1-9][0-9]* poses to osc")
+  message(FATAL_ERROR "track live --send (${rc}): ${err}")
+endif()
+execute_process(COMMAND ${EARSHOT} track live --source sim --send osc:70000 RESULT_VARIABLE rc ERROR_VARIABLE err TIMEOUT 30)
+if(NOT rc EQUAL 2 OR NOT err MATCHES "--send: send 'osc:70000': bad UDP port '70000'")
+  message(FATAL_ERROR "bad --send not reported clearly (${rc}): ${err}")
+endif()
+execute_process(COMMAND ${EARSHOT} track live --source sim --send osc:no-such-host.invalid
+                RESULT_VARIABLE rc ERROR_VARIABLE err TIMEOUT 30)
+if(rc EQUAL 0 OR NOT err MATCHES "cannot resolve host 'no-such-host.invalid'")
+  message(FATAL_ERROR "--send to a host that does not resolve (${rc}): ${err}")
+endif()

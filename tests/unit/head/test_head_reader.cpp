@@ -98,7 +98,7 @@ TEST(TrackedHead, PublishesTheSimulatedHeadAndNamesTheFieldOfABadSpec) {
     EXPECT_GE(slot.load().sequence, 5u);
   }
   try {
-    TrackedHead bad("nonsense", slot, "--tracker");
+    TrackedHead bad("nonsense", slot, {}, "--tracker");
     FAIL() << "a bad spec started";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("--tracker"), std::string::npos) << e.what();

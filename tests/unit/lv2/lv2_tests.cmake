@@ -51,5 +51,11 @@ endif()
 # The turtle through the LV2 validator (lv2_validate runs sord_validate with
 # every installed LV2 specification).
 add_test(NAME lv2_validate
-  COMMAND sh -c "cd '${EARSHOT_LV2_BUNDLE}' && lv2_validate manifest.ttl earshot.ttl 2>&1 | tee /dev/stderr | grep -q 'Found 0 errors'")
+  COMMAND sh -c "cd '${EARSHOT_LV2_BUNDLE}' && lv2_validate manifest.ttl earshot.ttl presets.ttl 2>&1 | tee /dev/stderr | grep -q 'Found 0 errors'")
 set_tests_properties(lv2_validate PROPERTIES LABELS "unit;lv2")
+
+# The libraries earshot.so links, all named in docs/LV2.md.
+add_test(NAME lv2_linked_libraries
+  COMMAND ${CMAKE_COMMAND} -DLIB=$<TARGET_FILE:earshot_lv2> -DDOC=${PROJECT_SOURCE_DIR}/docs/LV2.md
+          -P ${CMAKE_CURRENT_SOURCE_DIR}/lv2/linked_libraries.cmake)
+set_tests_properties(lv2_linked_libraries PROPERTIES LABELS "unit;lv2;docs")

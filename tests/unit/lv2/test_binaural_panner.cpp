@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -18,6 +19,8 @@
 #include "../audio/alloc_counter.hpp"
 #include "binaural_cues.hpp"
 #include "binaural_panner.hpp"
+#include "bypass.hpp"
+#include "head_controls.hpp"
 #include "panner_switch.hpp"
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -194,6 +197,98 @@ TEST(SharedTrackers, InstancesAskingForOneSpecShareOneTracker) {
     EXPECT_GT(p.sequence, 0u);
   }
   EXPECT_EQ(trackers.running(), before);
+}
+
+// One tracker per spec, so instances that share it share where it sends:
+// the first decides, a later one asking for another list is told so.
+TEST(SharedTrackers, InstancesSharingATrackerShareWhereItSends) {
+  SharedTrackers& trackers = SharedTrackers::process();
+  std::string note;
+  auto a = trackers.acquire("sim", "osc:127.0.0.1:39001,format=sparta", &note);
+  EXPECT_TRUE(note.empty()) << note;
+  EXPECT_EQ(a->head->tracker().senders().senders().size(), 1u);
+  auto b = trackers.acquire("sim", "osc:127.0.0.1:39001,format=sparta", &note);
+  EXPECT_EQ(a.get(), b.get());
+  EXPECT_TRUE(note.empty()) << note;
+  auto c = trackers.acquire("sim", "opentrack", &note);
+  EXPECT_EQ(a.get(), c.get());
+  EXPECT_NE(note.find("already runs in this process, sending to 'osc:127.0.0.1:39001,format=sparta'"), std::string::npos)
+      << note;
+  try {
+    (void)trackers.acquire("sim:1", "osc:70000");
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("sim"), std::string::npos) << e.what();
+  }
+  try {
+    (void)trackers.acquire("replay:/nonexistent.csv", "osc:70000");
+    FAIL() << "no error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("send 'osc:70000': bad UDP port"), std::string::npos) << e.what();
+  }
+}
+
+// IEM SceneRotator's invert switches and rotation order (head_controls.hpp).
+TEST(HeadControls, InvertEachAngleAndComposeInEitherOrder) {
+  constexpr double d = std::numbers::pi / 180.0;
+  const Quat head = quat_from_ypr(40 * d, -15 * d, 10 * d);
+  EXPECT_EQ(adjust_head(head, {}), head) << "no switch: the head as it is";
+  auto angles = [](const Quat& q) {
+    const YawPitchRoll a = ypr_from_quat(q);
+    return std::array<double, 3>{a.yaw / d, a.pitch / d, a.roll / d};
+  };
+  const auto y = angles(adjust_head(head, {true, false, false, 0}));
+  EXPECT_NEAR(y[0], -40, 1e-9);
+  EXPECT_NEAR(y[1], -15, 1e-9);
+  EXPECT_NEAR(y[2], 10, 1e-9);
+  const auto p = angles(adjust_head(head, {false, true, false, 0}));
+  EXPECT_NEAR(p[1], 15, 1e-9);
+  const auto r = angles(adjust_head(head, {false, false, true, 0}));
+  EXPECT_NEAR(r[2], -10, 1e-9);
+  // Roll first: the same three turns the other way round.
+  const Quat rpy = adjust_head(head, {false, false, false, 1});
+  const Quat want = multiply(multiply(quat_from_ypr(0, 0, 10 * d), quat_from_ypr(0, -15 * d, 0)), quat_from_ypr(40 * d, 0, 0));
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(rpy[i], want[i], 1e-12);
+  // A single turn is the same in either order.
+  const Quat yaw_only = quat_from_ypr(30 * d, 0, 0);
+  const Quat same = adjust_head(yaw_only, {false, false, false, 1});
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_NEAR(same[i], yaw_only[i], 1e-12);
+}
+
+// The bypass (bypass.hpp): off, the input delayed by the latency on both
+// channels, exactly; the fade is monotonic and lasts kFadeFrames; in place
+// (the input buffer is the left output) gives the same output.
+TEST(Bypass, DryIsTheInputDelayedAndTheFadeIsSmooth) {
+  constexpr std::size_t kLatency = 128, kN = 4000;
+  std::vector<float> in(kN);
+  std::mt19937 rng(4);
+  std::normal_distribution<float> g(0.0f, 0.1f);
+  for (auto& x : in) x = g(rng);
+  const auto wet = [](const float* i, float* l, float* r, std::uint32_t n) {
+    for (std::uint32_t k = 0; k < n; ++k) l[k] = r[k] = 0.5f * i[k];  // a stand-in renderer
+  };
+  Bypass b(kLatency);
+  b.reset(false);
+  std::vector<float> l(kN), r(kN);
+  b.process(in.data(), l.data(), r.data(), 1000, false, wet);  // odd chunking: 1000 frames, then the rest
+  b.process(in.data() + 1000, l.data() + 1000, r.data() + 1000, 3000, false, wet);
+  for (std::size_t i = kLatency; i < kN; ++i) {
+    ASSERT_EQ(l[i], in[i - kLatency]) << i;
+    ASSERT_EQ(r[i], in[i - kLatency]) << i;
+  }
+  // In place, switched on: the fade from dry to wet over kFadeFrames, then wet.
+  Bypass c(kLatency), d(kLatency);
+  c.reset(false);
+  d.reset(false);
+  std::vector<float> inplace = in, l2(kN), r2(kN), ref_l(kN), ref_r(kN);
+  c.process(inplace.data(), inplace.data(), r2.data(), kN, true, wet);
+  d.process(in.data(), ref_l.data(), ref_r.data(), kN, true, wet);
+  for (std::size_t i = 0; i < kN; ++i) ASSERT_EQ(inplace[i], ref_l[i]) << i;
+  EXPECT_EQ(d.wet(), 1.0f);
+  for (std::size_t i = Bypass::kFadeFrames; i < kN; ++i) ASSERT_EQ(ref_l[i], 0.5f * in[i]) << i;
+  // Bounded: never beyond the larger of the two signals it mixes.
+  for (std::size_t i = kLatency; i < kN; ++i)
+    EXPECT_LE(std::abs(ref_l[i]), std::max(std::abs(0.5f * in[i]), std::abs(in[i - kLatency])) + 1e-6f) << i;
 }
 
 TEST(SharedTrackers, ABadSpecIsAnErrorNamingIt) {

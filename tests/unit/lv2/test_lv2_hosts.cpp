@@ -7,8 +7,10 @@
 
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <random>
 #include <string>
@@ -106,4 +108,52 @@ TEST(Lv2Hosts, Lv2applyGivesTheCuesOfEarshotRender) {
       EXPECT_LT(p.itd_us, -100.0) << "azimuth " << az;
     }
   }
+}
+
+// Debian's lv2file: its feature array holds an entry whose URI is NULL (the
+// plugin used to crash at instantiate, exit 139). It must run the plugin to
+// the end with the cues of a source on the left, list the presets, apply
+// one, and with the bypass (lv2:enabled) off give the input back, delayed
+// by the latency, on both channels.
+TEST(Lv2Hosts, Lv2fileRunsThePluginListsAndAppliesPresetsAndBypasses) {
+  ASSERT_EQ(run("command -v lv2file > /dev/null"), 0) << "lv2file not found: install it (scripts/install-deps.sh)";
+  const fs::path work = fs::path(EARSHOT_WORK) / "lv2file";
+  fs::create_directories(work);
+  std::mt19937 rng(12);
+  std::normal_distribution<float> d(0.0f, 0.1f);
+  std::vector<float> noise(kRate);
+  for (auto& x : noise) x = d(rng);
+  write_mono(work / "noise.wav", noise);
+  const std::string env = "LV2_PATH='" EARSHOT_LV2_PATH "' ";
+  const std::string in = " -i '" + (work / "noise.wav").string() + "'";
+
+  const fs::path left = work / "left.wav";
+  std::string cmd = env + "lv2file" + in + " -o '" + left.string() + "' -p azimuth:60 urn:earshot:lv2:panner";
+  ASSERT_EQ(run(cmd), 0) << cmd;
+  const Cues c = cues(read_stereo(left));
+  EXPECT_GT(c.ild_db, 6.0) << "azimuth 60 is on the left";
+  EXPECT_GT(c.itd_us, 100.0);
+
+  const fs::path listed = work / "presets.txt";
+  cmd = env + "lv2file -L urn:earshot:lv2:panner > '" + listed.string() + "' 2>&1";
+  ASSERT_EQ(run(cmd), 0) << cmd;
+  std::ifstream f(listed);
+  const std::string list((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  for (const char* p : {"Straight ahead", "OSC head tracking", "opentrack head tracking", "Webcam tag"})
+    EXPECT_NE(list.find(p), std::string::npos) << p << " not in lv2file's list:\n" << list;
+
+  const fs::path ahead = work / "ahead.wav";
+  cmd = env + "lv2file" + in + " -o '" + ahead.string() + "' -P 'Straight ahead' urn:earshot:lv2:panner";
+  ASSERT_EQ(run(cmd), 0) << cmd;
+  EXPECT_LT(std::abs(cues(read_stereo(ahead)).ild_db), 1.0) << "the straight-ahead preset";
+
+  const fs::path dry = work / "bypassed.wav";
+  cmd = env + "lv2file" + in + " -o '" + dry.string() + "' -p azimuth:60 -p enabled:0 urn:earshot:lv2:panner";
+  ASSERT_EQ(run(cmd), 0) << cmd;
+  const Stereo b = read_stereo(dry);
+  ASSERT_EQ(b.left.size(), noise.size());
+  double worst = 0;
+  for (std::size_t i = 128; i < noise.size(); ++i)
+    worst = std::max({worst, std::abs(double(b.left[i]) - noise[i - 128]), std::abs(double(b.right[i]) - noise[i - 128])});
+  EXPECT_LT(worst, 1e-6) << "bypassed: the input, 128 frames later, on both channels";
 }

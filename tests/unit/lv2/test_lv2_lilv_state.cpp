@@ -15,6 +15,8 @@
 #include <array>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <memory>
 #include <random>
@@ -175,10 +177,25 @@ class Session {
     lilv_state_free(state);
   }
 
+  /// Applies the bundle's preset `uri` as jalv does (lilv_state_new_from_world).
+  void apply_preset(const std::string& uri) {
+    LilvNode* node = lilv_new_uri(world_, uri.c_str());
+    lilv_world_load_resource(world_, node);
+    LilvState* state = lilv_state_new_from_world(world_, &urids_.map, node);
+    lilv_node_free(node);
+    ASSERT_NE(state, nullptr) << "lilv could not read the preset " << uri;
+    apply(state);
+  }
+
   /// Restores the state saved in `dir` (this session's own world and map).
   void restore(const fs::path& dir) {
     LilvState* state = lilv_state_new_from_file(world_, &urids_.map, nullptr, (dir / "state.ttl").c_str());
     ASSERT_NE(state, nullptr) << "lilv could not read " << dir / "state.ttl";
+    apply(state);
+  }
+
+ private:
+  void apply(LilvState* state) {
     lilv_state_restore(
         state, instance_,
         [](const char* symbol, void* user, const void* value, std::uint32_t size, std::uint32_t type) {
@@ -189,7 +206,6 @@ class Session {
     lilv_state_free(state);
   }
 
- private:
   LV2_URID map(const char* uri) { return urids_.map.map(urids_.map.handle, uri); }
   void clear_control() {
     auto* seq = reinterpret_cast<LV2_Atom_Sequence*>(control_.data());
@@ -290,4 +306,137 @@ TEST(Lv2LilvState, ASavedSessionRestoredInAnotherGivesTheSameOutput) {
     for (std::size_t b = 0; b < in.size() / kBlock; ++b) plain.run(in.data() + b * kBlock, &l3, &r3);
   }
   EXPECT_NE(l1, l3);
+}
+
+// What lv2lint checks of the bundle (lv2lint is not a Debian package, so it
+// is run outside this suite; these are its checks, through lilv, so a
+// regression fails here): a maintainer's name, address and home page, a
+// project with a name, a stable version (even minor and micro numbers, the
+// minor not 0), a short description; each control port named, its default
+// within its range, integer and toggled ports with integer numbers, toggles
+// 0 or 1; a bypass port (lv2:enabled) that defaults to on; the presets.
+TEST(Lv2Lilv, TheMetadataLv2lintChecks) {
+  LilvWorld* world = lilv_world_new();
+  LilvNode* bundle = lilv_new_file_uri(world, nullptr, (std::string(EARSHOT_LV2_BUNDLE) + "/").c_str());
+  lilv_world_load_bundle(world, bundle);
+  lilv_node_free(bundle);
+  LilvNode* uri = lilv_new_uri(world, kUri);
+  const LilvPlugin* plugin = lilv_plugins_get_by_uri(lilv_world_get_all_plugins(world), uri);
+  ASSERT_NE(plugin, nullptr);
+  EXPECT_TRUE(lilv_plugin_verify(plugin));
+  for (LilvNode* n : {lilv_plugin_get_author_name(plugin), lilv_plugin_get_author_email(plugin),
+                      lilv_plugin_get_author_homepage(plugin)}) {
+    EXPECT_NE(n, nullptr) << "a doap:maintainer's foaf:name, foaf:mbox and foaf:homepage";
+    lilv_node_free(n);
+  }
+  LilvNode* project = lilv_plugin_get_project(plugin);
+  ASSERT_NE(project, nullptr);
+  LilvNode* doap_name = lilv_new_uri(world, "http://usefulinc.com/ns/doap#name");
+  LilvNode* project_name = lilv_world_get(world, project, doap_name, nullptr);
+  EXPECT_TRUE(project_name && lilv_node_is_string(project_name));
+  lilv_node_free(project_name);
+  lilv_node_free(project);
+  auto get_int = [&](const char* property) {
+    LilvNode* p = lilv_new_uri(world, property);
+    LilvNodes* v = lilv_plugin_get_value(plugin, p);
+    lilv_node_free(p);
+    const int out = v && lilv_node_is_int(lilv_nodes_get_first(v)) ? lilv_node_as_int(lilv_nodes_get_first(v)) : -1;
+    lilv_nodes_free(v);
+    return out;
+  };
+  const int minor = get_int(LV2_CORE__minorVersion), micro = get_int(LV2_CORE__microVersion);
+  EXPECT_TRUE(minor > 0 && minor % 2 == 0) << "lv2:minorVersion " << minor << " is not a stable (even, non-zero) one";
+  EXPECT_TRUE(micro >= 0 && micro % 2 == 0) << "lv2:microVersion " << micro;
+  LilvNode* shortdesc = lilv_new_uri(world, "http://usefulinc.com/ns/doap#shortdesc");
+  LilvNodes* sd = lilv_plugin_get_value(plugin, shortdesc);
+  EXPECT_TRUE(sd && lilv_node_is_string(lilv_nodes_get_first(sd)));
+  lilv_nodes_free(sd);
+
+  LilvNode* control = lilv_new_uri(world, LV2_CORE__ControlPort);
+  LilvNode* input = lilv_new_uri(world, LV2_CORE__InputPort);
+  LilvNode* integer = lilv_new_uri(world, LV2_CORE__integer);
+  LilvNode* toggled = lilv_new_uri(world, LV2_CORE__toggled);
+  LilvNode* enabled = lilv_new_uri(world, LV2_CORE__enabled);
+  LilvNode* dflt = lilv_new_uri(world, LV2_CORE__default);
+  LilvNode* minimum = lilv_new_uri(world, LV2_CORE__minimum);
+  LilvNode* maximum = lilv_new_uri(world, LV2_CORE__maximum);
+  LilvNode* designation_uri = lilv_new_uri(world, LV2_CORE__designation);
+  bool found_enabled = false;
+  for (std::uint32_t i = 0; i < lilv_plugin_get_num_ports(plugin); ++i) {
+    const LilvPort* port = lilv_plugin_get_port_by_index(plugin, i);
+    const std::string symbol = lilv_node_as_string(lilv_port_get_symbol(plugin, port));
+    LilvNode* name = lilv_port_get_name(plugin, port);
+    EXPECT_NE(name, nullptr) << symbol;
+    lilv_node_free(name);
+    if (!lilv_port_is_a(plugin, port, control)) continue;
+    LilvNode *d = nullptr, *lo = nullptr, *hi = nullptr;
+    lilv_port_get_range(plugin, port, &d, &lo, &hi);
+    const bool in = lilv_port_is_a(plugin, port, input);
+    const bool whole = lilv_port_has_property(plugin, port, integer) || lilv_port_has_property(plugin, port, toggled);
+    if (in) {
+      ASSERT_TRUE(d && lo && hi) << symbol << ": default, minimum and maximum";
+      EXPECT_LE(lilv_node_as_float(lo), lilv_node_as_float(d)) << symbol;
+      EXPECT_LE(lilv_node_as_float(d), lilv_node_as_float(hi)) << symbol;
+    }
+    if (whole) {
+      for (const LilvNode* n : {in ? d : lo, lo, hi}) {
+        if (n) {
+          EXPECT_TRUE(lilv_node_is_int(n)) << symbol << ": " << lilv_node_as_string(n) << " is not an integer";
+        }
+      }
+    }
+    if (in && lilv_port_has_property(plugin, port, toggled)) {
+      EXPECT_TRUE(lilv_node_as_int(d) == 0 || lilv_node_as_int(d) == 1) << symbol;
+    }
+    LilvNode* designation = lilv_port_get(plugin, port, designation_uri);
+    if (designation && lilv_node_equals(designation, enabled)) {
+      found_enabled = true;
+      EXPECT_EQ(symbol, "enabled");
+      EXPECT_EQ(lilv_node_as_int(d), 1) << "bypass off by default";
+    }
+    lilv_node_free(designation);
+    lilv_node_free(d);
+    lilv_node_free(lo);
+    lilv_node_free(hi);
+  }
+  EXPECT_TRUE(found_enabled) << "no port designated lv2:enabled";
+
+  LilvNode* preset_class = lilv_new_uri(world, "http://lv2plug.in/ns/ext/presets#Preset");
+  LilvNodes* presets = lilv_plugin_get_related(plugin, preset_class);
+  EXPECT_EQ(presets ? lilv_nodes_size(presets) : 0u, 4u);
+  lilv_nodes_free(presets);
+  for (LilvNode* n : {doap_name, shortdesc, control, input, integer, toggled, enabled, dflt, minimum, maximum, designation_uri,
+                      preset_class, uri})
+    lilv_node_free(n);
+  lilv_world_free(world);
+}
+
+// The presets as a host applies them (lilv, as jalv's preset menu): the
+// ports, and the tracker spec and send list in their state.
+TEST(Lv2Lilv, PresetsSetThePortsAndTheTrackersSpec) {
+  const fs::path work = fs::path(EARSHOT_WORK) / "presets";
+  fs::remove_all(work);
+  Session s;
+  ASSERT_TRUE(s.ok());
+  s.control("azimuth") = 45;
+  s.apply_preset(std::string(kUri) + "#preset-webcam-tag");
+  EXPECT_EQ(s.control("tracking"), 1.0f);
+  EXPECT_EQ(s.control("azimuth"), 0.0f);
+  s.save(work / "webcam", work / "scratch");
+  std::ifstream f(work / "webcam" / "state.ttl");
+  const std::string text((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("webcam,beacon=apriltag,size_mm=50"), std::string::npos) << text;
+  EXPECT_NE(text.find("osc:127.0.0.1:9001,format=sparta"), std::string::npos) << text;
+
+  s.apply_preset(std::string(kUri) + "#preset-osc-head-tracking");
+  EXPECT_EQ(s.control("tracking"), 1.0f);
+  EXPECT_EQ(s.control("tracker_source"), 3.0f);
+  EXPECT_EQ(s.control("osc_port"), 9000.0f);
+  s.apply_preset(std::string(kUri) + "#preset-straight-ahead");
+  EXPECT_EQ(s.control("tracking"), 0.0f);
+  EXPECT_EQ(s.control("enabled"), 1.0f);
+  s.save(work / "straight", work / "scratch2");
+  std::ifstream g(work / "straight" / "state.ttl");
+  const std::string plain((std::istreambuf_iterator<char>(g)), std::istreambuf_iterator<char>());
+  EXPECT_EQ(plain.find("webcam"), std::string::npos) << "the webcam spec outlived the preset that clears it";
 }

@@ -4,6 +4,7 @@
 // for a new SOFA set and a tracker; the worker's answers are adopted; the
 // notify port reports the set; state saves and restores the set and the
 // tracker spec. The real hosts are in lv2_hosts (tests/unit/lv2/lv2_hosts.cmake).
+#include <arpa/inet.h>
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 #include <lv2/atom/forge.h>
@@ -13,7 +14,12 @@
 #include <lv2/state/state.h>
 #include <lv2/urid/urid.h>
 #include <lv2/worker/worker.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -41,7 +47,8 @@ constexpr const char* kUri = "urn:earshot:lv2:panner";
 enum Port : std::uint32_t {
   kIn, kOutLeft, kOutRight, kControl, kNotify, kAzimuth, kElevation, kDistance, kGain, kDistanceModel, kRoom,
   kReverbSend, kTracking, kTrackerSource, kRecenter, kYawOffset, kPitchOffset, kRollOffset, kLatency, kHeadYaw,
-  kHeadPitch, kHeadRoll, kPortCount
+  kHeadPitch, kHeadRoll, kEnabled, kInvertYaw, kInvertPitch, kInvertRoll, kRotationOrder, kOscPort, kOpentrackPort,
+  kPortCount
 };
 
 /// URIs to numbers; reserved up front so run()'s lookups never allocate.
@@ -88,14 +95,15 @@ class Host {
     if (dl_) dlclose(dl_);
   }
 
-  bool instantiate() {
+  /// `features`: the host's own array (null: ours, map and worker).
+  bool instantiate(const LV2_Feature* const* features = nullptr, bool ours = true) {
     schedule_ = {this, [](LV2_Worker_Schedule_Handle h, std::uint32_t size, const void* data) {
                    return static_cast<Host*>(h)->jobs_.push(size, data) ? LV2_WORKER_SUCCESS : LV2_WORKER_ERR_NO_SPACE;
                  }};
     map_feature_ = {LV2_URID__map, &map_.map};
     schedule_feature_ = {LV2_WORKER__schedule, &schedule_};
     features_ = {&map_feature_, &schedule_feature_, nullptr};
-    handle_ = desc_->instantiate(desc_, kRate, "", features_.data());
+    handle_ = desc_->instantiate(desc_, kRate, "", ours ? features_.data() : features);
     if (!handle_) return false;
     for (std::uint32_t p = 0; p < kPortCount; ++p) {
       if (p == kIn || p == kOutLeft || p == kOutRight || p == kControl || p == kNotify) continue;
@@ -104,6 +112,9 @@ class Host {
     controls_[kDistance] = 1.0f;
     controls_[kDistanceModel] = 2.0f;
     controls_[kReverbSend] = -12.0f;
+    controls_[kEnabled] = 1.0f;
+    controls_[kOscPort] = 9000.0f;
+    controls_[kOpentrackPort] = 4242.0f;
     desc_->connect_port(handle_, kIn, in_.data());
     desc_->connect_port(handle_, kOutLeft, left_.data());
     desc_->connect_port(handle_, kOutRight, right_.data());
@@ -116,9 +127,11 @@ class Host {
 
   float& control(Port p) { return controls_[p]; }
 
-  /// One run() of kFrames; input noise; the output appended to `out`.
-  void run(std::vector<float>* out_left = nullptr, std::vector<float>* out_right = nullptr) {
+  /// One run() of kFrames; input noise; the output appended to `out`, the input to `in`.
+  void run(std::vector<float>* out_left = nullptr, std::vector<float>* out_right = nullptr,
+           std::vector<float>* in = nullptr) {
     run_frames(kFrames);
+    if (in) in->insert(in->end(), in_.begin(), in_.begin() + kFrames);
     if (out_left) out_left->insert(out_left->end(), left_.begin(), left_.begin() + kFrames);
     if (out_right) out_right->insert(out_right->end(), right_.begin(), right_.begin() + kFrames);
   }
@@ -170,6 +183,7 @@ class Host {
     answers_.count = 0;
   }
   [[nodiscard]] std::size_t jobs() const { return jobs_.count; }
+  void activate() { desc_->activate(handle_); }
 
   /// The value of the newest patch:Set of `property` on the notify port, or "".
   std::string notified(const char* property) {
@@ -479,4 +493,188 @@ TEST(Lv2Plugin, AMissingSetIsLoggedAndTheOldOneKept) {
   std::vector<float> l, r;
   for (int i = 0; i < 50; ++i) host.run(&l, &r);
   EXPECT_GT(ild(l, r), 6.0);  // still rendering with the default set
+}
+
+// A plugin must survive what real hosts hand it. Debian's lv2file passes a
+// feature entry whose URI is NULL (the plugin crashed reading it, exit 139);
+// others pass no array at all, or a feature without its data or function.
+// Each instance still renders.
+TEST(Lv2Plugin, SurvivesOddFeatureArrays) {
+  UridMap map;
+  map.uris.reserve(64);
+  LV2_Feature null_uri{nullptr, nullptr}, map_feature{LV2_URID__map, &map.map};
+  LV2_URID_Map no_function{&map, nullptr};
+  LV2_Feature map_without_function{LV2_URID__map, &no_function}, map_without_data{LV2_URID__map, nullptr};
+  LV2_Worker_Schedule no_schedule{nullptr, nullptr};
+  LV2_Feature schedule_without_function{LV2_WORKER__schedule, &no_schedule};
+  const std::vector<std::vector<const LV2_Feature*>> arrays{
+      {&null_uri, &map_feature, nullptr},                     // lv2file's
+      {&map_feature, &null_uri, &null_uri, nullptr},
+      {&map_without_data, &schedule_without_function, nullptr},
+      {&map_without_function, nullptr},
+      {nullptr},
+  };
+  for (std::size_t i = 0; i <= arrays.size(); ++i) {
+    Host host(plugin_library());
+    const bool null_array = i == arrays.size();
+    ASSERT_TRUE(host.instantiate(null_array ? nullptr : arrays[i].data(), false)) << "array " << i;
+    std::vector<float> l, r;
+    host.control(kAzimuth) = 60.0f;
+    host.control(kTracking) = 1.0f;  // no worker: nothing starts, nothing crashes
+    for (int k = 0; k < 40; ++k) host.run(&l, &r);
+    EXPECT_GT(ild(l, r), 6.0) << "array " << i;
+  }
+}
+
+// lv2:enabled off: the input, delayed by the reported latency, on both
+// channels (after a fade when switched while playing); back on, the render.
+TEST(Lv2Plugin, BypassIsTheInputDelayedByTheLatency) {
+  Host host(plugin_library());
+  ASSERT_TRUE(host.instantiate());
+  host.control(kAzimuth) = 60.0f;
+  host.control(kEnabled) = 0.0f;
+  host.activate();  // bypassed from the first block after activate: no fade
+  std::vector<float> in, l, r;
+  for (int i = 0; i < 8; ++i) host.run(&l, &r, &in);
+  const std::size_t latency = static_cast<std::size_t>(host.control(kLatency));
+  ASSERT_EQ(latency, 128u);
+  for (std::size_t i = latency; i < in.size(); ++i) {
+    ASSERT_EQ(l[i], in[i - latency]) << i;
+    ASSERT_EQ(r[i], in[i - latency]) << i;
+  }
+  // Switched on while playing: it fades to the render (ILD of a source on the left).
+  host.control(kEnabled) = 1.0f;
+  l.clear();
+  r.clear();
+  for (int i = 0; i < 8; ++i) host.run();  // the 1024-frame fade and more
+  for (int i = 0; i < 40; ++i) host.run(&l, &r);
+  EXPECT_GT(ild(l, r), 6.0);
+  // And off again: the fade ends on the dry input.
+  host.control(kEnabled) = 0.0f;
+  in.clear();
+  l.clear();
+  r.clear();
+  for (int i = 0; i < 8; ++i) host.run(&l, &r, &in);
+  for (std::size_t i = 1024 + latency; i < in.size(); ++i) ASSERT_EQ(l[i], r[i]) << i;
+}
+
+// IEM SceneRotator's invert switches and rotation order, on the head the
+// panner turns: invert yaw makes the yaw offset's left a right.
+TEST(Lv2Plugin, InvertSwitchesAndRotationOrderTurnTheHead) {
+  Host host(plugin_library());
+  ASSERT_TRUE(host.instantiate());
+  host.control(kYawOffset) = 40.0f;
+  host.run();
+  EXPECT_NEAR(host.control(kHeadYaw), 40.0f, 1e-3);
+  host.control(kInvertYaw) = 1.0f;
+  host.run();
+  EXPECT_NEAR(host.control(kHeadYaw), -40.0f, 1e-3);
+  host.control(kInvertYaw) = 0.0f;
+  host.control(kPitchOffset) = 20.0f;
+  host.control(kInvertPitch) = 1.0f;
+  host.run();
+  EXPECT_NEAR(host.control(kHeadPitch), -20.0f, 1e-3);
+  host.control(kInvertPitch) = 0.0f;
+  host.control(kPitchOffset) = 0.0f;
+  host.control(kRollOffset) = 10.0f;
+  host.control(kInvertRoll) = 1.0f;
+  host.run();
+  EXPECT_NEAR(host.control(kHeadRoll), -10.0f, 1e-3);
+  // The other order changes a combined turn, not a single one.
+  host.control(kInvertRoll) = 0.0f;
+  host.control(kPitchOffset) = 40.0f;
+  host.control(kRollOffset) = 40.0f;
+  host.run();
+  const std::array<float, 3> ypr{host.control(kHeadYaw), host.control(kHeadPitch), host.control(kHeadRoll)};
+  host.control(kRotationOrder) = 1.0f;
+  host.run();
+  const float moved = std::max({std::abs(host.control(kHeadYaw) - ypr[0]), std::abs(host.control(kHeadPitch) - ypr[1]),
+                                std::abs(host.control(kHeadRoll) - ypr[2])});
+  EXPECT_GT(moved, 5.0f) << "roll-pitch-yaw composed like yaw-pitch-roll";
+  host.control(kPitchOffset) = host.control(kRollOffset) = 0.0f;
+  host.run();
+  EXPECT_NEAR(host.control(kHeadYaw), 40.0f, 1e-3) << "a yaw alone is the same in either order";
+}
+
+namespace {
+
+/// A UDP socket on a free port of 127.0.0.1.
+struct Udp {
+  int fd = ::socket(AF_INET, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  std::uint16_t port = 0;
+  Udp() {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
+    socklen_t n = sizeof a;
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n);
+    port = ntohs(a.sin_port);
+  }
+  ~Udp() { ::close(fd); }
+  void send_to(std::uint16_t to, const std::vector<std::uint8_t>& bytes) const {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(to);
+    ::sendto(fd, bytes.data(), bytes.size(), 0, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  }
+  /// The next datagram within `ms`, or empty.
+  std::vector<std::uint8_t> receive(int ms) const {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, ms) <= 0) return {};
+    std::vector<std::uint8_t> b(2048);
+    const ssize_t n = ::recv(fd, b.data(), b.size(), 0);
+    b.resize(n > 0 ? static_cast<std::size_t>(n) : 0);
+    return b;
+  }
+};
+
+/// "/earshot/ypr" with three float32 arguments.
+std::vector<std::uint8_t> earshot_ypr(float yaw) {
+  std::vector<std::uint8_t> b{'/', 'e', 'a', 'r', 's', 'h', 'o', 't', '/', 'y', 'p', 'r', 0, 0, 0, 0, ',', 'f', 'f', 'f', 0, 0, 0, 0};
+  for (float v : {yaw, 0.0f, 0.0f}) {
+    std::uint32_t u;
+    std::memcpy(&u, &v, 4);
+    for (int k = 3; k >= 0; --k) b.push_back(static_cast<std::uint8_t>(u >> (8 * k)));
+  }
+  return b;
+}
+
+}  // namespace
+
+// The OSC port as a visible integer port: tracker_source osc listens where
+// osc_port says, and the send parameter passes the head on (Earshot's OSC
+// format), both on 127.0.0.1.
+TEST(Lv2Plugin, OscPortPortAndSendParameter) {
+  Udp probe;  // a free port for the tracker: taken, then given up
+  const std::uint16_t port = probe.port;
+  ::close(probe.fd);
+  probe.fd = -1;
+  Udp sender, receiver;
+  Host host(plugin_library());
+  ASSERT_TRUE(host.instantiate());
+  host.patch_set("urn:earshot:lv2:panner#send", "osc:127.0.0.1:" + std::to_string(receiver.port), LV2_ATOM__String);
+  host.control(kTracking) = 1.0f;
+  host.control(kTrackerSource) = 3.0f;  // osc
+  host.control(kOscPort) = static_cast<float>(port);
+  host.run();
+  host.work();
+  host.deliver();
+  bool turned = false;
+  for (int i = 0; i < 300 && !turned; ++i) {  // bounded: at most ~3 s
+    sender.send_to(port, earshot_ypr(30.0f));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    host.run();
+    turned = std::abs(host.control(kHeadYaw) - 30.0f) < 0.01f;
+  }
+  EXPECT_TRUE(turned) << "the head never turned: the osc source is not on osc_port " << port;
+  const auto got = receiver.receive(3000);
+  ASSERT_FALSE(got.empty()) << "nothing sent to the send parameter's port";
+  EXPECT_EQ(std::string(reinterpret_cast<const char*>(got.data())), "/earshot/pose/quat");
+  EXPECT_EQ(host.save()["urn:earshot:lv2:panner#send"],
+            std::make_pair("osc:127.0.0.1:" + std::to_string(receiver.port), std::string(LV2_ATOM__String)));
+  host.control(kTracking) = 0.0f;
+  host.run();
+  host.work();
 }

@@ -22,6 +22,8 @@
 #include "binaural_cues.hpp"
 #include "earshot/earshot.h"
 #include "earshot/tracker/sources/opentrack_packet.hpp"
+#include "earshot/tracker/sources/osc_pose.hpp"
+#include "earshot/tracker/sources/udp_pose_source.hpp"
 #include "earshot/tracker/sources/udp_socket.hpp"
 
 namespace {
@@ -96,7 +98,8 @@ constexpr std::array kTableNames = {
     "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender",
     "esGetTrackerState",  // ABI 1.1 appended
     "esWorldHrtf",        // ABI 1.2 appended
-    "esGetTrackerImage"}; // ABI 1.3 appended
+    "esGetTrackerImage",  // ABI 1.3 appended
+    "esAttachTrackerEx"}; // ABI 1.4 appended
 
 TEST(PluginAbi, TableVersionAndLayout) {
   const ESproctable* t = esGetProcTable(ES_ABI_VERSION_MAJOR);
@@ -114,8 +117,11 @@ TEST(PluginAbi, TableVersionAndLayout) {
   // ABI 1.2 appends esWorldHrtf.
   EXPECT_EQ(offsetof(ESproctable, WorldHrtf), 8u + 41u * sizeof(void*));
   // ABI 1.3 appends esGetTrackerImage.
-  EXPECT_EQ(t->abi_version & 0xFFFFu, 3u);
   EXPECT_EQ(offsetof(ESproctable, GetTrackerImage), 8u + 42u * sizeof(void*));
+  // ABI 1.4 appends esAttachTrackerEx.
+  EXPECT_EQ(t->abi_version & 0xFFFFu, 4u);
+  EXPECT_EQ(offsetof(ESproctable, AttachTrackerEx), 8u + 43u * sizeof(void*));
+  EXPECT_EQ(t->AttachTrackerEx, &esAttachTrackerEx);
   EXPECT_EQ(sizeof(EStrackerimagedot), 16u) << "EStrackerimagedot changed: that is a new ABI";
   EXPECT_EQ(offsetof(EStrackerimage, time), 32u) << "EStrackerimage changed: that is a new ABI";
   EXPECT_EQ(sizeof(EStrackerimage), 104u + 160u * 120u) << "EStrackerimage changed: that is a new ABI";
@@ -712,6 +718,57 @@ TEST(PluginHead, LiveTrackerTurnsTheHead) {
   // opentrack's yaw is positive to the right: -60 there turns the head 60 deg left.
   ASSERT_TRUE(turn_to(-60.0, std::sin(std::numbers::pi / 6)));
   EXPECT_LT(ild_of(t, 40), -6.0) << "the source ahead should now be on the right";
+  ASSERT_EQ(esAttachTracker(t.w, nullptr), ES_OK);
+}
+
+// esAttachTrackerEx (ABI 1.4): the tracker's options as name/value pairs.
+// "send" sends every pose the tracker publishes on: opentrack in with the
+// head turned 60 degrees left (opentrack's yaw -60), SPARTA's /ypr out, read
+// back by our own OSC input: the head there turns left too.
+TEST(PluginTracker, AttachTrackerExSendsThePosesOn) {
+  TestWorld t(false);
+  earshot::tracker::UdpPoseSource rx("osc", 0, std::string("127.0.0.1"),
+                                     earshot::tracker::OscPoseDecoder::packet_decoder());
+  constexpr std::uint16_t kPort = 47312;
+  const std::string in = "opentrack:" + std::to_string(kPort);
+  const std::string out = "osc:127.0.0.1:" + std::to_string(rx.port()) + ",format=sparta";
+  const char* options[] = {"send", out.c_str(), nullptr};
+  ASSERT_EQ(esAttachTrackerEx(t.w, in.c_str(), options), ES_OK) << esGetErrorMessage(t.w);
+  const auto packet = earshot::tracker::encode_opentrack({0, 0, 0, -60.0, 0, 0});
+  bool left = false;
+  for (int i = 0; i < 500 && !left; ++i) {  // bounded: at most ~5 s
+    earshot::tracker::send_udp_loopback(kPort, packet);
+    const auto e = rx.next(std::chrono::milliseconds(10));
+    if (const auto* p = std::get_if<earshot::HeadPose>(&e)) {
+      const auto ahead = earshot::tracker::to_eigen(p->orientation) * earshot::tracker::Vec3(0, 0, -1);
+      left = ahead.isApprox(earshot::tracker::Vec3(-std::sin(std::numbers::pi / 3), 0, -0.5), 1e-4);
+    }
+  }
+  EXPECT_TRUE(left) << "SPARTA's /ypr never showed the head turned left; " << rx.last_error();
+  ASSERT_EQ(esAttachTracker(t.w, nullptr), ES_OK);
+
+  // Bad options: named, and nothing attached.
+  const char* unknown[] = {"colour", "red", nullptr};
+  EXPECT_EQ(esAttachTrackerEx(t.w, "sim", unknown), ES_INVALID_VALUE);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("esAttachTrackerEx: unknown option 'colour' (send)"), std::string::npos)
+      << esGetErrorMessage(t.w);
+  const char* bad[] = {"send", "osc:70000", nullptr};
+  EXPECT_EQ(esAttachTrackerEx(t.w, "sim", bad), ES_INVALID_VALUE);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("send 'osc:70000': bad UDP port"), std::string::npos)
+      << esGetErrorMessage(t.w);
+  const char* no_value[] = {"send", nullptr};
+  EXPECT_EQ(esAttachTrackerEx(t.w, "sim", no_value), ES_INVALID_VALUE);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("option 'send' has no value"), std::string::npos);
+  const char* nowhere[] = {"send", "osc:no-such-host.invalid", nullptr};
+  EXPECT_EQ(esAttachTrackerEx(t.w, "sim", nowhere), ES_TRACKER_ERROR);
+  EXPECT_NE(std::string(esGetErrorMessage(t.w)).find("cannot resolve host 'no-such-host.invalid'"), std::string::npos)
+      << esGetErrorMessage(t.w);
+  EStrackerstate st{};
+  st.size = sizeof st;
+  ASSERT_EQ(esGetTrackerState(t.w, &st), ES_OK);
+  EXPECT_EQ(st.state, ES_TRACKER_NONE);
+  // NULL options: as esAttachTracker.
+  EXPECT_EQ(esAttachTrackerEx(t.w, "sim", nullptr), ES_OK) << esGetErrorMessage(t.w);
   ASSERT_EQ(esAttachTracker(t.w, nullptr), ES_OK);
 }
 

@@ -5,12 +5,17 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
+#include <mutex>
 #include <atomic>
 #include <thread>
 #include <vector>
 
 #include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/send/send_spec.hpp"
+#include "earshot/tracker/sources/osc_pose.hpp"
 #include "earshot/tracker/sources/sim_source.hpp"
+#include "earshot/tracker/sources/udp_pose_source.hpp"
 
 using namespace earshot::tracker;
 using earshot::HeadPose;
@@ -142,4 +147,59 @@ TEST(LiveTrackerThread, ASourceThatThrowsStopsTheThreadWithItsMessage) {
   LiveTracker t(std::make_unique<Failing>(), slot);
   while (t.running()) std::this_thread::yield();
   EXPECT_EQ(t.status().error, "no Wii Remote found");
+}
+
+// LiveConfig::send: the tracker thread sends what it publishes (the poses a
+// recording writes), thinned to the spec's rate on the steady clock however
+// fast the source runs (a simulator as fast as possible). The test's own
+// receiver reads Earshot's format back: every pose received is one the
+// thread published, in order. The bound on the count is the cap's guarantee
+// over the tracker's whole life (rate x lifetime + the bucket), not a timing
+// guess.
+TEST(LiveTrackerThread, SendsThePosesItPublishesAtMostAtItsRate) {
+  UdpPoseSource rx("osc", 0, std::string("127.0.0.1"), OscPoseDecoder::packet_decoder());
+  LiveConfig cfg;
+  cfg.send = {parse_send_spec("osc:" + std::to_string(rx.port()) + ",format=earshot,rate=50")};
+  std::mutex m;
+  std::vector<HeadPose> published;
+  published.reserve(4000);
+  PoseSlot slot;
+  std::uint64_t sent = 0;
+  const auto start = std::chrono::steady_clock::now();
+  double lifetime_s = 0;
+  {
+    LiveTracker t(sim(3000), slot, cfg, [&](const HeadPose& p) {
+      std::lock_guard lock(m);
+      published.push_back(p);
+    });
+    while (t.running()) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    t.stop();
+    lifetime_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(t.senders().senders().size(), 1u);
+    const auto c = t.senders().senders()[0]->counters();
+    sent = c.sent;
+    EXPECT_EQ(c.failed, 0u);
+  }
+  std::vector<HeadPose> received;
+  for (int i = 0; i < 400 && received.size() < sent; ++i) {  // bounded: at most 400 waits of 10 ms
+    const SourceEvent e = rx.next(std::chrono::milliseconds(10));
+    if (const auto* p = std::get_if<HeadPose>(&e)) received.push_back(*p);
+  }
+  std::lock_guard lock(m);
+  ASSERT_GE(published.size(), 3000u);
+  EXPECT_GE(sent, 1u);
+  EXPECT_LE(static_cast<double>(sent), 50.0 * lifetime_s + 1.5) << published.size() << " published in " << lifetime_s << " s";
+  EXPECT_LT(sent, published.size() / 2) << "a source faster than the cap is thinned";
+  EXPECT_EQ(rx.dropped(), 0u) << rx.last_error();
+  ASSERT_GE(received.size(), 1u);
+  // Each received pose is a published one (float32 on the wire), in order.
+  const auto same = [](const HeadPose& a, const HeadPose& b) {
+    return (to_eigen(a.position) - to_eigen(b.position)).norm() < 1e-5 &&
+           to_eigen(a.orientation).angularDistance(to_eigen(b.orientation)) < 1e-5;
+  };
+  std::size_t at = 0;
+  for (const HeadPose& r : received) {
+    while (at < published.size() && !same(r, published[at])) ++at;
+    EXPECT_LT(at, published.size()) << "a received pose that was never published";
+  }
 }

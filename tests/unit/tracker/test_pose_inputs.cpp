@@ -3,9 +3,12 @@
 // CSV the recorder writes.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "earshot/tracker/live/live_pipeline.hpp"
 #include "earshot/tracker/sources/opentrack_packet.hpp"
@@ -40,13 +43,68 @@ TEST(Opentrack, PacketIsSixLittleEndianDoubles) {
   EXPECT_EQ(Bytes(again.begin(), again.end()), b);
 }
 
-TEST(Opentrack, AxesMapIntoTheAudioFrame) {
-  // opentrack: yaw right positive, z forward (towards the screen).
-  const HeadPose d = opentrack_to_pose({10.0, 5.0, 20.0, 90.0, 0.0, 0.0});
-  EXPECT_TRUE(to_eigen(d.position).isApprox(Vec3(0.10, 0.05, -0.20)));
-  EXPECT_TRUE((to_eigen(d.orientation) * Vec3(0, 0, -1)).isApprox(Vec3(1, 0, 0), 1e-12));  // looks right
-  const HeadPose up = opentrack_to_pose({0, 0, 0, 0, 30.0, 0});
-  EXPECT_GT((to_eigen(up.orientation) * Vec3(0, 0, -1)).y(), 0.4);  // pitch up looks up
+// opentrack's own signs, one axis at a time, as its trackers fill the pose
+// (tracker-rift-140, tracker-steamvr, tracker-tobii: docs/OSC.md, "opentrack"):
+// +x left, +y up, +z backward (away from the screen), +yaw right, +pitch up,
+// +roll toward the left shoulder. Each hand-built packet must move the head
+// that way in the audio world (+x right, +y up, -z ahead), and each head
+// pose must come out as that packet: the sign of every axis, both ways.
+TEST(Opentrack, EveryAxisHasOpentracksSignBothWays) {
+  struct Axis {
+    const char* name;
+    OpentrackPacket packet;     // what opentrack sends for this head
+    Vec3 position_m;            // where the head is, audio world
+    Vec3 ahead;                 // where it looks
+    Vec3 up;                    // where its top points
+  };
+  const double s = std::sin(30 * kDeg), c = std::cos(30 * kDeg);
+  const std::vector<Axis> axes{
+      {"x +10 cm: left", {10, 0, 0, 0, 0, 0}, Vec3(-0.10, 0, 0), Vec3(0, 0, -1), Vec3(0, 1, 0)},
+      {"y +10 cm: up", {0, 10, 0, 0, 0, 0}, Vec3(0, 0.10, 0), Vec3(0, 0, -1), Vec3(0, 1, 0)},
+      {"z +10 cm: backward", {0, 0, 10, 0, 0, 0}, Vec3(0, 0, 0.10), Vec3(0, 0, -1), Vec3(0, 1, 0)},
+      {"yaw +30: right", {0, 0, 0, 30, 0, 0}, Vec3::Zero(), Vec3(s, 0, -c), Vec3(0, 1, 0)},
+      {"pitch +30: up", {0, 0, 0, 0, 30, 0}, Vec3::Zero(), Vec3(0, s, -c), Vec3(0, c, s)},
+      {"roll +30: left shoulder", {0, 0, 0, 0, 0, 30}, Vec3::Zero(), Vec3(0, 0, -1), Vec3(-s, c, 0)},
+  };
+  for (const Axis& a : axes) {
+    // opentrack -> us: the 48 bytes a sender with opentrack's signs puts on the wire.
+    const auto bytes = encode_opentrack(a.packet);
+    std::string why;
+    const auto m = decode_opentrack(bytes, &why);
+    ASSERT_TRUE(m && m->pose) << a.name << ": " << why;
+    const Quat q = to_eigen(m->pose->orientation);
+    EXPECT_TRUE(to_eigen(m->pose->position).isApprox(a.position_m, 1e-12) ||
+                (a.position_m.isZero() && to_eigen(m->pose->position).isZero()))
+        << a.name << ": position " << to_eigen(m->pose->position).transpose();
+    EXPECT_TRUE((q * Vec3(0, 0, -1)).isApprox(a.ahead, 1e-12)) << a.name << ": ahead " << (q * Vec3(0, 0, -1)).transpose();
+    EXPECT_TRUE((q * Vec3(0, 1, 0)).isApprox(a.up, 1e-12)) << a.name << ": up " << (q * Vec3(0, 1, 0)).transpose();
+
+    // us -> opentrack: the head above must come out as the same packet.
+    HeadPose h;
+    h.position = to_common(a.position_m);
+    h.orientation = m->pose->orientation;
+    const OpentrackPacket out = pose_to_opentrack(h);
+    const std::array<double, 6> got{out.x_cm, out.y_cm, out.z_cm, out.yaw_deg, out.pitch_deg, out.roll_deg};
+    const std::array<double, 6> want{a.packet.x_cm,    a.packet.y_cm,      a.packet.z_cm,
+                                     a.packet.yaw_deg, a.packet.pitch_deg, a.packet.roll_deg};
+    for (std::size_t i = 0; i < 6; ++i) EXPECT_NEAR(got[i], want[i], 1e-9) << a.name << ": field " << i;
+  }
+}
+
+// A general pose survives our output and our input: x, y, z and the three
+// angles together (yaw first, as both sides compose them).
+TEST(Opentrack, OurOutputIsOurInput) {
+  for (const auto& [ypr, pos] : std::vector<std::pair<std::array<double, 3>, Vec3>>{
+           {{40, -20, 15}, Vec3(0.05, -0.02, 0.12)}, {{-130, 60, -75}, Vec3(-0.3, 0.1, -0.2)}, {{0, 0, 0}, Vec3::Zero()}}) {
+    HeadPose h;
+    h.position = to_common(pos);
+    h.orientation = earshot::quat_from_ypr(ypr[0] * kDeg, ypr[1] * kDeg, ypr[2] * kDeg);
+    std::string why;
+    const auto m = decode_opentrack(encode_opentrack(pose_to_opentrack(h)), &why);
+    ASSERT_TRUE(m && m->pose) << why;
+    EXPECT_TRUE(to_eigen(m->pose->position).isApprox(pos, 1e-12) || pos.isZero());
+    EXPECT_NEAR(to_eigen(m->pose->orientation).angularDistance(to_eigen(h.orientation)), 0.0, 1e-12);
+  }
 }
 
 TEST(Opentrack, MalformedPacketsAreDroppedWithAReason) {
@@ -108,8 +166,9 @@ TEST(Osc, MalformedMessagesAreDroppedWithAReason) {
   const std::array<double, 3> three{1, 2, 3};
   EXPECT_FALSE(d.decode(encode_osc("/other/thing", three), &why));
   EXPECT_NE(why.find("not one of ours"), std::string::npos) << why;
-  const std::array<double, 4> notunit{2, 0, 0, 0};
-  EXPECT_FALSE(d.decode(encode_osc("/earshot/quat", notunit), &why));
+  const std::array<double, 4> zero{0, 0, 0, 0};  // a quaternion is normalised; one with no direction is refused
+  EXPECT_FALSE(d.decode(encode_osc("/earshot/quat", zero), &why));
+  EXPECT_NE(why.find("no direction"), std::string::npos) << why;
   const std::array<double, 6> far{100, 0, 0, 0, 0, 0};
   EXPECT_FALSE(d.decode(encode_osc("/earshot/pose/ypr", far), &why));
   const std::array<double, 3> nan{std::nan(""), 0, 0};
@@ -132,7 +191,7 @@ TEST(UdpPoseSources, LoopbackPacketsBecomePosesAndBadOnesAreCounted) {
     const auto e = ot.next(std::chrono::milliseconds(100));
     if (const auto* p = std::get_if<HeadPose>(&e)) {
       ++poses;
-      EXPECT_TRUE(to_eigen(p->position).isApprox(Vec3(0, 0, -0.1)));
+      EXPECT_TRUE(to_eigen(p->position).isApprox(Vec3(0, 0, 0.1)));  // opentrack's +z: backward
     }
   }
   EXPECT_EQ(poses, 2);

@@ -16,6 +16,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "earshot/webcam/dot_detector.hpp"
 #include "earshot/webcam/tag_pattern.hpp"
@@ -98,6 +99,45 @@ TEST(TagPattern, MatchesLibapriltagsOwnRendering) {
   EXPECT_THROW((void)tag_pattern("tag99h1", 0), std::invalid_argument);
   EXPECT_THROW((void)tag_pattern("tag36h11", 587), std::invalid_argument);  // ids 0..586
   EXPECT_THROW((void)tag_pattern("tag36h11", -1), std::invalid_argument);
+}
+
+// What size_mm measures, per family (the table in README.md, "Tracking
+// with a webcam"): the side of the square whose corners libapriltag finds,
+// width_at_border cells of the printed total_width. For the classic
+// families that square is the outside of the black border (a white ring
+// around it); for the reversed-border ones (tagStandard*, tagCircle*,
+// tagCustom48h12) it is the inside edge of the black ring (a white ring
+// just within it), so the printed tag is total/border times size_mm wide.
+TEST(TagPattern, SizeMmIsTheSideOfTheSquareTheDetectorFinds) {
+  struct Family {
+    const char* name;
+    int border, total;
+    bool reversed;
+  };
+  for (const Family& f : {Family{"tag36h11", 8, 10, false}, Family{"tag25h9", 7, 9, false}, Family{"tag16h5", 6, 8, false},
+                          Family{"tag36h10", 8, 10, false}, Family{"tagStandard41h12", 5, 9, true},
+                          Family{"tagStandard52h13", 6, 10, true}, Family{"tagCircle21h7", 5, 9, true},
+                          Family{"tagCircle49h12", 5, 11, true}, Family{"tagCustom48h12", 6, 10, true}}) {
+    const TagPattern p = tag_pattern(f.name, 0);
+    EXPECT_EQ(p.width_at_border, f.border) << f.name;
+    EXPECT_EQ(p.total_width, f.total) << f.name;
+    const int a = p.border_start, b = p.border_start + p.width_at_border - 1;  // the square's first and last cells
+    // The square's own outermost cells and the cells just outside it.
+    int inside_white = 0, outside_white = 0, cells = 0;
+    for (int i = a; i <= b; ++i) {
+      for (const auto& [x, y] : {std::pair{i, a}, std::pair{i, b}, std::pair{a, i}, std::pair{b, i}}) inside_white += p.white(x, y);
+      for (const auto& [x, y] : {std::pair{i, a - 1}, std::pair{i, b + 1}, std::pair{a - 1, i}, std::pair{b + 1, i}})
+        outside_white += p.white(x, y);
+      cells += 4;
+    }
+    if (f.reversed) {
+      EXPECT_EQ(inside_white, cells) << f.name << ": a white ring just inside the square";
+      EXPECT_EQ(outside_white, 0) << f.name << ": the black ring just outside it";
+    } else {
+      EXPECT_EQ(inside_white, 0) << f.name << ": the black border is the square's outermost cells";
+      EXPECT_EQ(outside_white, cells) << f.name << ": white just outside it";
+    }
+  }
 }
 
 TEST(AprilTagDetector, CornerOrderAndPixelCentresMeasured) {

@@ -14,6 +14,7 @@
 
 #include "earshot/errors.hpp"
 #include "earshot/pose_slot.hpp"
+#include "earshot/tracker/live/live_pipeline.hpp"
 #include "earshot/tracker/live/live_tracker.hpp"
 
 namespace earshot::tracker {
@@ -194,8 +195,17 @@ TEST(WebcamSource, FocalAndCalibrationGiveTheCameraModel) {
   ASSERT_TRUE(cam);
   EXPECT_DOUBLE_EQ(cam->fx, 600.0);  // calibrated at 320x240, capturing 640x480
   EXPECT_DOUBLE_EQ(cam->fy, 602.0);
-  EXPECT_DOUBLE_EQ(cam->cx, 320.5);
-  EXPECT_DOUBLE_EQ(cam->cy, 240.5);
+  // The ideal camera's image holds every raw pixel's undistorted place: this
+  // barrel lens moves the corners out, so it is larger and the principal
+  // point moves with its origin.
+  const UndistortedImage grown = undistorted_image(load_camera_calibration(calib.path).scaled_to(640, 480, "c"), 640, 480);
+  EXPECT_GT(grown.offset.x(), 0.0);
+  EXPECT_GT(grown.width, 640);
+  EXPECT_GT(grown.height, 480);
+  EXPECT_DOUBLE_EQ(cam->cx, 320.5 + grown.offset.x());
+  EXPECT_DOUBLE_EQ(cam->cy, 240.5 + grown.offset.y());
+  EXPECT_EQ(cam->width, grown.width);
+  EXPECT_EQ(cam->height, grown.height);
   auto e = src.next(std::chrono::milliseconds(1));
   EXPECT_NE(std::get<SourceNote>(e).message.find("camera model from " + calib.path.string()), std::string::npos);
   e = src.next(std::chrono::milliseconds(1));
@@ -205,7 +215,7 @@ TEST(WebcamSource, FocalAndCalibrationGiveTheCameraModel) {
   for (std::size_t k = 0; k < 4; ++k) {
     const auto& p = sent.points[k];
     ASSERT_TRUE(f.dots.slots[k]);
-    const Vec2 want = c.undistort(Vec2(p.x, p.y));
+    const Vec2 want = c.undistort(Vec2(p.x, p.y)).value() + undistorted_image(c, 640, 480).offset;
     EXPECT_EQ(*f.dots.slots[k], want);
     EXPECT_GT((want - Vec2(p.x, p.y)).norm(), 1.0);  // the lens moved it
   }
@@ -214,13 +224,15 @@ TEST(WebcamSource, FocalAndCalibrationGiveTheCameraModel) {
   spec.focal_px = 700.0;
   WebcamSource g(spec, std::make_unique<ScriptedDetector>(std::deque<webcam::Detection>{}), fast());
   EXPECT_DOUBLE_EQ(g.camera()->fx, 700.0);
-  EXPECT_DOUBLE_EQ(g.camera()->cx, 320.5);
-  // focal= alone: centred principal point.
+  EXPECT_DOUBLE_EQ(g.camera()->cx, 320.5 + grown.offset.x());
+  // focal= alone: centred principal point, pixel centres at whole numbers:
+  // the middle of 640 pixels (0..639) is 319.5.
   WebcamSpec only = file_spec(video.path);
   only.focal_px = 800.0;
   WebcamSource h(only, std::make_unique<ScriptedDetector>(std::deque<webcam::Detection>{}), fast());
   EXPECT_DOUBLE_EQ(h.camera()->fy, 800.0);
-  EXPECT_DOUBLE_EQ(h.camera()->cx, 320.0);
+  EXPECT_DOUBLE_EQ(h.camera()->cx, 319.5);
+  EXPECT_DOUBLE_EQ(h.camera()->cy, 239.5);
   EXPECT_NE(std::get<SourceNote>(h.next(std::chrono::milliseconds(1))).message.find("focal length 800 px (focal=)"),
             std::string::npos);
 
@@ -335,6 +347,49 @@ TEST(WebcamSource, LiveTrackerUsesTheSourcesCamera) {
   f.dots.slots[0] = Vec2(1100, 600);
   (void)wii.process(f, 0.0);
   EXPECT_EQ(wii.counters().rejected_dots, 1u);
+}
+
+// A wide lens (k1 = -0.44) moves the raw image's corners ~100 px out. A
+// tag near the corner of the view keeps its four corners: the ideal
+// camera's image holds where the lens sends them, so the live pipeline
+// takes them all (it drops dots outside the camera's image) and solves.
+TEST(WebcamSource, ATagNearTheEdgeOfAWideLensKeepsAllFourCorners) {
+  TempFile video("wide_lens.y4m");
+  write_video(video.path, 640, 480, 1);
+  TempFile calib("wide_lens.yml");
+  std::ofstream(calib.path) << "%YAML:1.0\n---\nimage_width: 640\nimage_height: 480\n"
+                               "camera_matrix: !!opencv-matrix\n   rows: 3\n   cols: 3\n   dt: d\n"
+                               "   data: [ 600., 0., 319.5, 0., 600., 239.5, 0., 0., 1. ]\n"
+                               "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 5\n   dt: d\n"
+                               "   data: [ -0.44, 0.2, 0., 0., 0. ]\n";
+  WebcamSpec spec = file_spec(video.path);
+  spec.calib = calib.path.string();
+  spec.beacon = WebcamSpec::Beacon::apriltag;
+  spec.size_mm = 60.0;
+  webcam::Detection tag;
+  tag.count = 4;
+  tag.labelled = true;
+  tag.tag_id = 0;
+  // Within 35 px of the top-left corner: each undistorts to outside the raw 640x480.
+  tag.points = {{{4, 4, 1}, {34, 5, 1}, {33, 34, 1}, {3, 33, 1}}};
+  WebcamSource src(spec, std::make_unique<ScriptedDetector>(std::deque{tag}), fast());
+  (void)src.next(std::chrono::milliseconds(1));  // connected
+  const auto e = src.next(std::chrono::milliseconds(1));
+  const auto& f = std::get<CameraFrame>(e);
+  const Camera cam = src.camera().value();
+  const CameraCalibration lens = load_camera_calibration(calib.path);
+  for (std::size_t k = 0; k < 4; ++k) {
+    ASSERT_TRUE(f.dots.slots[k]) << "corner " << k << " dropped by the source";
+    const Vec2 raw_ideal = lens.undistort(Vec2(tag.points[k].x, tag.points[k].y)).value();
+    EXPECT_TRUE(raw_ideal.x() < 0.0 || raw_ideal.y() < 0.0) << "corner " << k << " should leave the raw image";
+    EXPECT_TRUE(cam.inside(*f.dots.slots[k])) << "corner " << k << " at " << f.dots.slots[k]->transpose()
+                                              << " outside the ideal camera's " << cam.width << "x" << cam.height;
+  }
+  LivePipeline pipeline(with_source_model(LiveConfig{}, src));
+  const auto pose = pipeline.process(e, 0.0);
+  EXPECT_EQ(pipeline.counters().rejected_dots, 0u);
+  ASSERT_TRUE(pose);
+  EXPECT_EQ(pose->state, PoseState::tracking);
 }
 
 }  // namespace

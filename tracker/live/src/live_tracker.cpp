@@ -47,7 +47,8 @@ LiveTracker::LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, Li
       slot_(slot),
       keep_running_after_end_(cfg.keep_running_after_end),
       pipeline_(with_source_model(cfg, *source_)),
-      on_pose_(std::move(on_pose)) {
+      on_pose_(std::move(on_pose)),
+      senders_(cfg.send) {
   status_.source = source_->describe();
   thread_ = std::jthread([this](std::stop_token st) { run(st); });
 }
@@ -78,8 +79,10 @@ void LiveTracker::run(std::stop_token stop) {
   Clock::time_point last_frame_wall{};
 
   const auto process = [&](const SourceEvent& e) {
-    if (const auto pose = pipeline_.process(e, last_t)) {
-      if (slot_.publish(*pose) && on_pose_) on_pose_(slot_.load());
+    if (const auto pose = pipeline_.process(e, last_t); pose && slot_.publish(*pose)) {
+      const HeadPose published = slot_.load();
+      senders_.offer(published, Clock::now());
+      if (on_pose_) on_pose_(published);
     }
   };
   const auto update_status = [&](Clock::time_point wall) {

@@ -53,10 +53,18 @@ std::array<std::uint8_t, kOpentrackPacketSize> encode_opentrack(const OpentrackP
 HeadPose opentrack_to_pose(const OpentrackPacket& p) {
   constexpr double deg = std::numbers::pi / 180.0;
   HeadPose d;
-  d.position = to_common(Vec3(Vec3(p.x_cm, p.y_cm, -p.z_cm) * 0.01));
-  d.orientation = quat_from_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, p.roll_deg * deg);
+  // opentrack: x left, z backward; yaw right, roll left (the header above).
+  d.position = to_common(Vec3(Vec3(-p.x_cm, p.y_cm, p.z_cm) * 0.01));
+  d.orientation = quat_from_ypr(-p.yaw_deg * deg, p.pitch_deg * deg, -p.roll_deg * deg);
   d.state = PoseState::tracking;
   return d;
+}
+
+OpentrackPacket pose_to_opentrack(const HeadPose& p) {
+  constexpr double deg = 180.0 / std::numbers::pi;
+  const YawPitchRoll a = ypr_from_quat(p.orientation);
+  return {-p.position[0] * 100.0, p.position[1] * 100.0, p.position[2] * 100.0,
+          -a.yaw * deg,           a.pitch * deg,         -a.roll * deg};
 }
 
 std::optional<PoseMessage> decode_opentrack(std::span<const std::uint8_t> bytes, std::string* why) {

@@ -21,18 +21,20 @@
 
 #include "earshot/pose_slot.hpp"
 #include "earshot/tracker/live/live_tracker.hpp"
+#include "earshot/tracker/live/tracker_options.hpp"
 
 namespace earshot::head {
 
 class TrackedHead {
  public:
   /// Starts the tracker `spec` names, publishing into `slot` (which must
-  /// outlive it). Throws earshot::InputError naming `field` for a bad spec,
-  /// and what the source throws (a UDP port in use, an unreadable file).
-  /// `on_pose` runs on the tracker thread after each publication (keep it
-  /// short).
-  TrackedHead(std::string_view spec, PoseSlot& slot, std::string_view field = "tracker",
-              tracker::LiveTracker::PoseCallback on_pose = {});
+  /// outlive it), with `options` (where its poses are also sent:
+  /// tracker/send). Throws earshot::InputError naming `field` for a bad
+  /// spec, and what the source throws (a UDP port in use, an unreadable
+  /// file). `on_pose` runs on the tracker thread after each publication
+  /// (keep it short).
+  TrackedHead(std::string_view spec, PoseSlot& slot, const tracker::TrackerOptions& options = {},
+              std::string_view field = "tracker", tracker::LiveTracker::PoseCallback on_pose = {});
   ~TrackedHead();  ///< stops and joins the tracker thread
   TrackedHead(const TrackedHead&) = delete;
   TrackedHead& operator=(const TrackedHead&) = delete;

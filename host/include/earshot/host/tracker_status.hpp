@@ -4,6 +4,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "earshot/earshot.h"
 
@@ -26,8 +27,10 @@ struct TrackerStatus {
 };
 
 /// Attaches the tracker `spec` ("", "none": no tracker) and recenters it, so
-/// the first pose is straight ahead. A refusal is no error: the returned
+/// the first pose is straight ahead; `send`: where it also sends its poses
+/// (esAttachTrackerEx's "send" options). A refusal is no error: the returned
 /// status says why (`failed`) and the head is held straight.
-[[nodiscard]] TrackerStatus attach_tracker(ESworld world, const std::string& spec);
+[[nodiscard]] TrackerStatus attach_tracker(ESworld world, const std::string& spec,
+                                           const std::vector<std::string>& send = {});
 
 }  // namespace earshot::host

@@ -17,9 +17,15 @@
 //
 // Distortion has 4, 5, 8, 12 or 14 coefficients in OpenCV's order
 // (k1 k2 p1 p2 [k3 [k4 k5 k6 [s1 s2 s3 s4 [tx ty]]]]); the tilted-sensor
-// terms tx, ty must be 0. Undistortion inverts the model by fixed-point
-// iteration, as cv::undistortPoints does, and returns pixels of the ideal
-// pinhole camera with the same matrix: what the pose solver expects.
+// terms tx, ty must be 0. Undistortion inverts the model until it holds
+// (Newton's method from cv::undistortPoints' fixed point, stopped by a
+// convergence test: the ideal pixel distorts back to the measured one
+// within kUndistortTolerancePx) and returns pixels of the ideal pinhole
+// camera with the same matrix: what the pose solver expects. Where the
+// model folds over (no ideal pixel maps there, or several) there is none.
+//
+// Pixels: centres at whole numbers, the image's first pixel centred on
+// (0, 0), so the centre of a W-pixel-wide image is (W - 1) / 2.
 #pragma once
 
 #include <array>
@@ -31,6 +37,9 @@
 #include "earshot/tracker/core/camera.hpp"
 
 namespace earshot::webcam {
+
+/// How close distort(undistort(p)) must come back to p, pixels.
+inline constexpr double kUndistortTolerancePx = 1e-6;
 
 struct CameraCalibration {
   double fx = 0, fy = 0, cx = 0, cy = 0;
@@ -44,9 +53,15 @@ struct CameraCalibration {
   [[nodiscard]] CameraCalibration scaled_to(int width, int height, std::string_view origin) const;
   [[nodiscard]] tracker::Camera camera(int width, int height) const;
 
-  /// The ideal (undistorted) pixel of a measured one. Stays finite; gives up
-  /// (returns the input) where the model folds over (far outside the image).
-  [[nodiscard]] tracker::Vec2 undistort(const tracker::Vec2& px, int iterations = 20) const;
+  /// The ideal (undistorted) pixel of a measured one: distort() of it gives
+  /// `px` back within kUndistortTolerancePx, on the model's unfolded branch.
+  /// nullopt where there is none (the model folds there, or `px` is not
+  /// finite). Without distortion, `px` itself.
+  [[nodiscard]] std::optional<tracker::Vec2> undistort(const tracker::Vec2& px) const;
+  /// cv::undistortPoints' own fixed point, `iterations` times, without a
+  /// convergence test (comparisons with OpenCV). Stays finite; gives up
+  /// (returns the input) where an iteration goes astray.
+  [[nodiscard]] tracker::Vec2 undistort_fixed_point(const tracker::Vec2& px, int iterations) const;
   /// The measured pixel of an ideal one (OpenCV's forward model; for tests).
   [[nodiscard]] tracker::Vec2 distort(const tracker::Vec2& px) const;
 };

@@ -87,8 +87,10 @@ struct AprilTagOptions {
 
 /// A tag's corners in label order (Detection::points of a tag): 0 top-left,
 /// 1 top-right, 2 bottom-right, 3 bottom-left of the printed tag held
-/// upright. `side_mm` is the side of the tag's outer black square (the
-/// corners libapriltag finds). In the tag's frame, mm: the tag upright and
+/// upright. `side_mm` is the side of the square whose corners libapriltag
+/// finds: the outside of the black border of tag36h11 and the other classic
+/// families, the inside edge of the black ring of the reversed-border ones
+/// (tagStandard41h12 ...). In the tag's frame, mm: the tag upright and
 /// facing the camera at the identity pose of the tracker's camera frame
 /// (+x right, +y down), in the plane z = 0; its face looks along -z.
 [[nodiscard]] constexpr std::array<std::array<double, 3>, 4> tag_corners_mm(double side_mm) {

@@ -12,7 +12,12 @@
 // The camera model: calib=FILE (OpenCV YAML, scaled to the capture size;
 // lens distortion undone on the dots), focal=F (pixels; overrides the
 // file's), or else a guess from a 60 degree horizontal field of view, said in
-// the `connected` note. A camera that cannot be opened before it ever
+// the `connected` note. Pixel centres are at whole numbers, so a lens
+// without a calibration is centred on ((W - 1) / 2, (H - 1) / 2). With a
+// distorting lens, camera() is the ideal (undistorted) camera, its image
+// grown to hold every raw pixel's undistorted place (a barrel lens moves the
+// corners out: a tag near the edge keeps all four corners), shifted to start
+// at (0, 0); the dots are in its pixels. A camera that cannot be opened before it ever
 // worked throws (or, with WebcamOptions::wait_for_device, gives `searching`
 // notes and keeps trying); one that disappears while streaming gives a
 // `disconnected` note and is reopened every retry interval.
@@ -39,6 +44,19 @@ inline constexpr double kGuessedFovDeg = 60.0;
 
 /// A tag's corners as a beacon model (tag_corners_mm, facing the camera).
 [[nodiscard]] tracker::LedModel tag_model(double size_mm);
+
+/// A camera of focal length `f` pixels centred on its image under the
+/// pixel convention above: principal point ((W - 1) / 2, (H - 1) / 2).
+[[nodiscard]] tracker::Camera centred_camera(double f, int width, int height);
+
+/// Where a lens sends a W x H raw image: the bounding box of its border's
+/// undistorted places (and the raw rectangle), as an image starting at
+/// (0, 0): `offset` added to an undistorted pixel gives its place in it.
+struct UndistortedImage {
+  tracker::Vec2 offset = tracker::Vec2::Zero();
+  int width = 0, height = 0;
+};
+[[nodiscard]] UndistortedImage undistorted_image(const CameraCalibration& lens, int width, int height);
 
 /// How to run a webcam source beyond its spec.
 struct WebcamOptions {
@@ -81,6 +99,7 @@ class WebcamSource final : public tracker::FrameSource {
   std::optional<CameraCalibration> calib_;
   std::optional<tracker::Camera> camera_;
   std::optional<CameraCalibration> lens_;  ///< the calibration at the capture size, when distorted
+  tracker::Vec2 offset_ = tracker::Vec2::Zero();  ///< undistorted pixel -> the ideal image's (UndistortedImage)
   std::string camera_note_;                ///< how the focal length was found
   std::string mode_;                       ///< "640x480 @ 30 fps"
 

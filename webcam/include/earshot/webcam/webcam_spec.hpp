@@ -15,7 +15,11 @@ struct WebcamSpec {
   /// /dev/videoN, or a .y4m file played as if a camera delivered it.
   std::string device = "/dev/video0";
   Beacon beacon = Beacon::leds;
-  double size_mm = 50.0;           ///< apriltag: side of the tag's outer black square
+  /// apriltag: side of the square whose corners the detector finds: the
+  /// outside of the black border for tag36h11, tag36h10, tag25h9, tag16h5;
+  /// the inside edge of the black ring for the reversed-border families
+  /// (tagStandard41h12, tagStandard52h13, tagCircle*, tagCustom48h12).
+  double size_mm = 50.0;
   std::string family = "tag36h11";  ///< apriltag: the tag family
   int id = -1;                      ///< apriltag: only this id; -1 any
   /// apriltag: libapriltag's quad decimation. 2 finds the quads on a

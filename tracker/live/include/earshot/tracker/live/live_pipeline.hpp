@@ -24,10 +24,12 @@
 
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "earshot/head_pose.hpp"
 #include "earshot/tracker/track/dot_tracker.hpp"
 #include "earshot/tracker/core/frame_source.hpp"
+#include "earshot/tracker/send/send_spec.hpp"
 #include "earshot/tracker/track/labelled_tracker.hpp"
 
 namespace earshot::tracker {
@@ -52,6 +54,9 @@ struct LiveConfig {
   bool keep_running_after_end = false;
   int still_frames = 30;        ///< accelerometer steady this many frames = still
   double still_tolerance_g = 0.02;
+  /// LiveTracker: send every pose it publishes on to these (tracker/send:
+  /// OSC or opentrack over UDP, each at most at its rate); empty: nowhere.
+  std::vector<SendSpec> send;
 };
 
 /// `cfg` with the camera and beacon model of `source` where it defines them

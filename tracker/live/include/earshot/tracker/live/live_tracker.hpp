@@ -10,6 +10,9 @@
 // a mutex shared with the tracker thread only, never with the audio side;
 // so is thumbnail() (a camera source's newest frame, small, with its dots).
 //
+// Every published pose is also offered to the senders LiveConfig::send names
+// (tracker/send: non-blocking, rate-capped); senders() reports what they did.
+//
 // The source's own camera and beacon model (FrameSource::camera(), model():
 // a webcam's resolution and focal length, a tag's corners) replace the
 // configured ones, at the start and whenever the source (re)connects.
@@ -27,6 +30,7 @@
 #include "earshot/pose_slot.hpp"
 #include "earshot/tracker/core/frame_source.hpp"
 #include "earshot/tracker/live/live_pipeline.hpp"
+#include "earshot/tracker/send/pose_sender.hpp"
 
 namespace earshot::tracker {
 
@@ -65,6 +69,8 @@ class LiveTracker {
     std::string error;   ///< why the thread stopped, when a source failed
   };
 
+  /// Throws what opening a sender throws (a host that does not resolve)
+  /// before the thread starts.
   LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg = {},
               PoseCallback on_pose = {});
   ~LiveTracker();  ///< stops and joins
@@ -79,6 +85,8 @@ class LiveTracker {
   [[nodiscard]] Status status() const;
   /// The source's newest frame, thumbnail-sized (false: it has none).
   bool thumbnail(Thumbnail& out) const { return source_->thumbnail(out); }
+  /// Where the poses go (LiveConfig::send); their counters may be read any time.
+  [[nodiscard]] const PoseSenders& senders() const { return senders_; }
 
  private:
   void run(std::stop_token stop);
@@ -88,6 +96,7 @@ class LiveTracker {
   bool keep_running_after_end_;
   LivePipeline pipeline_;
   PoseCallback on_pose_;
+  PoseSenders senders_;
   std::atomic<bool> recenter_{false};
   std::atomic<bool> running_{true};
   mutable std::mutex status_mutex_;  // guards status_ (never touched by the audio side)

@@ -13,7 +13,9 @@
 //                            /dev/video0) or a .y4m video standing in for one,
 //                            watching the LED beacon or a printed AprilTag.
 //                            Options: beacon=leds|apriltag, size_mm=S (the
-//                            tag's black square), family=F and id=N (which
+//                            square the tag detector finds: tag36h11's black
+//                            square; the inside of tagStandard41h12's black
+//                            ring; README's table), family=F and id=N (which
 //                            tag), decimate=D (the tag search's image
 //                            reduction, default 2; 1 for a tag far away),
 //                            focal=F (pixels) or calib=FILE (OpenCV's

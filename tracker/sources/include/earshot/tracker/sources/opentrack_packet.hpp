@@ -1,9 +1,16 @@
-// opentrack's "UDP over network" output: one 48-byte datagram per pose, six
+// opentrack's "UDP over network" packet: one 48-byte datagram per pose, six
 // little-endian IEEE doubles: x, y, z in centimetres, yaw, pitch, roll in
-// degrees. opentrack's axes: x right, y up, z forward (towards the screen);
-// yaw positive to the right, pitch positive up, roll positive to the right.
-// We map it into the audio world frame (+x right, +y up, -z ahead; positive
-// yaw turns left): x, y as they are, z negated, yaw negated.
+// degrees, yaw then pitch then roll. Its output protocol (proto-udp) sends
+// the pose array as it is and its UDP input tracker (tracker-udp) reads it
+// back unchanged, so one convention serves both directions: opentrack's own,
+// as its trackers fill that array (tracker-rift-140, tracker-steamvr,
+// tracker-tobii; docs/OSC.md "opentrack" cites them):
+//   +x: the head moves LEFT      +yaw:   turns RIGHT
+//   +y: up                       +pitch: looks up
+//   +z: BACKWARD (away from the screen)   +roll: tilts LEFT (toward the left shoulder)
+// In the audio world frame (+x right, +y up, +z backward; yaw + left, roll +
+// toward the right shoulder) that is: x negated, y and z as they are, yaw
+// and roll negated, pitch as it is.
 #pragma once
 
 #include <optional>
@@ -31,6 +38,10 @@ struct OpentrackPacket {
 
 /// A parsed packet as a head pose in the audio world frame.
 [[nodiscard]] HeadPose opentrack_to_pose(const OpentrackPacket& p);
+
+/// A head pose (audio world frame) as opentrack's packet: the inverse of
+/// opentrack_to_pose (angles from earshot::ypr_from_quat, yaw first).
+[[nodiscard]] OpentrackPacket pose_to_opentrack(const HeadPose& p);
 
 /// parse_opentrack + opentrack_to_pose, as a PacketDecoder.
 [[nodiscard]] std::optional<PoseMessage> decode_opentrack(std::span<const std::uint8_t> bytes, std::string* why);

@@ -273,7 +273,23 @@ class PoseEskf {
   [[nodiscard]] const EskfStep& last_step() const { return step_; }
 
  private:
+  struct Innovation;
   void start(const Pose& z, const Mat6& cov, double t);
+  // The steps of update, in order.
+  /// The smallest process-noise scale that explains the innovation nu.
+  Innovation explain(const Mat12& FPF, const Mat6& cov, const Eigen::Matrix<double, 6, 1>& nu, double dt, double qa,
+                     double ql);
+  /// The quantisation error's predicted frame-to-frame correlation (above).
+  [[nodiscard]] double predicted_quantisation_correlation(const Mat6& cov, double dt) const;
+  /// With correlated errors: the differenced measurement when it fits
+  /// (true), else z with its covariance inflated.
+  bool fuse_correlated(Innovation& in, const Mat12& P_pred, const Mat6& cov, const Pose& x_pred,
+                       const Eigen::Matrix<double, 6, 1>& nu, double rho, double dt) const;
+  /// An outlier: the prediction stands (three in a row restart).
+  Pose skip(const Pose& z, const Mat6& cov, double t, const Pose& x_pred, const Mat12& FPF, double qa, double ql,
+            double dt);
+  /// The Kalman correction of the state and covariance.
+  void correct(const Innovation& in, Mat12& P_pred, const Pose& x_pred, double t);
   void adapt(double dt);
   [[nodiscard]] bool rotation_persists() const;
 

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -81,7 +82,16 @@ class LiveTracker {
   bool thumbnail(Thumbnail& out) const { return source_->thumbnail(out); }
 
  private:
+  using Clock = std::chrono::steady_clock;
+  struct Loop;
   void run(std::stop_token stop);
+  // The steps of run.
+  /// One event from the source; false when the source ended.
+  bool handle(Loop& l, const SourceEvent& e);
+  void note_link(Loop& l, const SourceNote& n);
+  void show_dots(Loop& l, const CameraFrame& frame, Clock::time_point wall);
+  void process(const SourceEvent& e, double now);
+  void update_status(Loop& l, Clock::time_point wall);
 
   std::unique_ptr<FrameSource> source_;
   PoseSlot& slot_;

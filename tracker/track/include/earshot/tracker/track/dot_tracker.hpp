@@ -53,6 +53,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 #include <optional>
 #include <vector>
 
@@ -124,7 +125,34 @@ class DotTracker {
 
  private:
   struct Hypothesis;
+  struct FrameContext;
   TrackResult process_lm(const DotFrame& frame);
+  // The steps of process_lm, in order.
+  /// Follows every hypothesis into this frame; true when one was.
+  bool follow_hypotheses(const FrameContext& c);
+  /// One hypothesis from its own prediction (the eskf's for the output's).
+  bool follow(Hypothesis& h, const FrameContext& c);
+  /// Four dots every hypothesis explains only three of, or none: acquire;
+  /// after a loss, three dots re-acquire.
+  void acquire(const FrameContext& c);
+  /// Drops rivals clearly worse than the best, or worse once the contest has run.
+  void prune_rivals();
+  /// The hypothesis given out, if any (learns the pixel noise and the camera).
+  const Hypothesis* choose_output(const FrameContext& c);
+  /// Sets r from the hypothesis given out; restarts the eskf on a relabelling.
+  void give_out(TrackResult& r, const Hypothesis& best);
+  // Their parts.
+  [[nodiscard]] std::optional<std::pair<Pose, double>> fit_labelling(const Labelling& l, const Pose& pred,
+                                                                     const FrameContext& c) const;
+  [[nodiscard]] static double off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread);
+  /// A 4-dot labelling that fits worse than the noise: the three of its dots
+  /// (or the four) whose pose is nearest the prediction.
+  void drop_stray(std::optional<Labelling>& lab, std::optional<std::pair<Pose, double>>& got, const Pose& pred,
+                  const std::optional<Mat6>& spread, const FrameContext& c) const;
+  /// A 3-dot pose: the P3P root most likely given the prediction (pose is
+  /// set to it); true when a rival root is about as likely.
+  bool choose_root(const Labelling& lab, Pose& pose, const Pose& pred, const Mat6& spread) const;
+  [[nodiscard]] bool rival_about_as_likely(const Hypothesis& best, const FrameContext& c) const;
   TrackResult process_thesis(const DotFrame& frame);
   TrackResult finish(TrackResult r, const DotFrame& frame);
   /// After a loss, with the eskf's last state: the explanation of the dots

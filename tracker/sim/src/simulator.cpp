@@ -19,7 +19,8 @@ std::optional<PixelModel> pixel_model_from(std::string_view name) {
 
 std::optional<MotionProfile> motion_profile_from(std::string_view name) {
   for (auto m : {MotionProfile::walk, MotionProfile::seated, MotionProfile::orienting, MotionProfile::nodding,
-                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed, MotionProfile::listener})
+                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed, MotionProfile::listener,
+                 MotionProfile::sweep})
     if (name == motion_profile_name(m)) return m;
   return std::nullopt;
 }
@@ -34,6 +35,7 @@ std::string_view motion_profile_name(MotionProfile m) {
     case MotionProfile::tremor: return "tremor";
     case MotionProfile::mixed: return "mixed";
     case MotionProfile::listener: return "listener";
+    case MotionProfile::sweep: return "sweep";
   }
   return "?";
 }
@@ -93,6 +95,14 @@ Simulator::Simulator(const Camera& cam, const LedModel& model, SimulatorConfig c
   s_ << 0.0, 0.0, 0.5 * (cfg_.z_min_mm + cfg_.z_max_mm), 0.0, 0.0, 0.0;
   active_ = cfg_.motion;
   if (cfg_.motion == MotionProfile::walk) return;  // the walk draws nothing here: old files stay
+  if (cfg_.motion == MotionProfile::sweep) {
+    s_ << 0.0, 0.0, 1000.0, 0.0, 0.0, 0.0;
+    for (size_t i = 0; i < 6; ++i) {
+      draw_sweep_speed(i);
+      if (uniform_(rng_) < 0.5) sweep_v_[i] = -sweep_v_[i];
+    }
+    return;
+  }
   if (cfg_.motion == MotionProfile::mixed) active_ = MotionProfile::seated;
   const ProfileBox b = box_of(active_);
   s_[2] = 0.5 * (b.z_min_mm + b.z_max_mm);
@@ -195,6 +205,38 @@ void Simulator::step_profile(double dt, double t) {
   gait_phase_ += kTau * 0.5 * step_f_ * dt;  // stride phase: half the step frequency
   tremor_phase_ += kTau * tremor_f_ * dt;
   tremor_mod_phase_ += kTau * 0.1 * dt;
+}
+
+namespace {
+/// sweep: the ranges (x, y, z mm; yaw, pitch, roll deg) and median speeds
+/// per axis (mm/s, deg/s); see simulator.hpp.
+constexpr std::array<double, 6> kSweepLo{-120, -120, 700, -50, -35, -90};
+constexpr std::array<double, 6> kSweepHi{120, 120, 1300, 50, 35, 90};
+constexpr std::array<double, 6> kSweepMedian{150, 150, 150, 145, 90, 55};
+constexpr double kSweepSpread = 0.6;    ///< sigma of the log-normal speed
+constexpr double kSweepCap = 3.0;       ///< speeds at most this many medians
+constexpr double kSweepRedrawHz = 1.0;  ///< a fresh speed mid-leg this often
+}  // namespace
+
+void Simulator::draw_sweep_speed(size_t i) {
+  const double sign = sweep_v_[i] < 0.0 ? -1.0 : 1.0;
+  const double v = std::min(kSweepCap, std::exp(kSweepSpread * normal_(rng_))) * kSweepMedian[i];
+  sweep_v_[i] = sign * (i < 3 ? v : v * kDeg);
+}
+
+void Simulator::step_sweep(double dt) {
+  for (size_t i = 0; i < 6; ++i) {
+    if (uniform_(rng_) < kSweepRedrawHz * dt) draw_sweep_speed(i);
+    const double lo = i < 3 ? kSweepLo[i] : kSweepLo[i] * kDeg, hi = i < 3 ? kSweepHi[i] : kSweepHi[i] * kDeg;
+    s_[static_cast<Eigen::Index>(i)] += sweep_v_[i] * dt;
+    double& x = s_[static_cast<Eigen::Index>(i)];
+    // The range end: the velocity flips sign within this frame.
+    if (x > hi || x < lo) {
+      x = std::clamp(2.0 * (x > hi ? hi : lo) - x, lo, hi);
+      sweep_v_[i] = -sweep_v_[i];
+      draw_sweep_speed(i);
+    }
+  }
 }
 
 Pose Simulator::profile_pose(double t) const {
@@ -331,6 +373,15 @@ DotFrame Simulator::observe(const Pose& pose, double t) {
 DotFrame Simulator::next() {
   const double dt = 1.0 / cfg_.rate_hz;
   const double t = static_cast<double>(frame_) * dt;
+  if (cfg_.trace) {
+    ++frame_;
+    return observe(cfg_.trace->at(t), t);
+  }
+  if (cfg_.motion == MotionProfile::sweep) {
+    if (frame_ > 0) step_sweep(dt);
+    ++frame_;
+    return observe({rotation_from_ypr(s_[3], s_[4], s_[5]), s_.head<3>()}, t);
+  }
   if (cfg_.motion != MotionProfile::walk) {
     if (frame_ > 0) step_profile(dt, t);
     ++frame_;

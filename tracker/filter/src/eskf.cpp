@@ -403,6 +403,34 @@ void PoseEskf::correct(const Innovation& in, Mat12& P_pred, const Pose& x_pred, 
   step_.P_upd = P_;
 }
 
+void PoseEskf::hand_through(const Pose& z, const Mat6& cov) {
+  if (!have_ || !cov.allFinite()) return;
+  x_ = z;
+  const Mat6 vel = P_.bottomRightCorner<6, 6>();
+  P_.setZero();
+  P_.topLeftCorner<6, 6>() = cov;
+  P_.bottomRightCorner<6, 6>() = vel;
+  // As at a start: the velocity's spread at least the spread of head speeds.
+  for (int i = 0; i < 3; ++i) {
+    P_(6 + i, 6 + i) = std::max(P_(6 + i, 6 + i), std::pow(200.0 * M_PI / 180.0, 2));
+    P_(9 + i, 9 + i) = std::max(P_(9 + i, 9 + i), 500.0 * 500.0);
+  }
+  have_z_prev_ = false;  // the next measurement is not differenced against this one
+  have_u_prev_ = false;
+  m_rot_.setZero();
+  step_.pose_upd = x_;
+  step_.P_upd = P_;
+}
+
+Pose guard(PoseEskf& eskf, const Pose& filtered, const Pose& z, const Mat6& cov, double chi2) {
+  Eigen::Matrix<double, 6, 1> d;
+  d.head<3>() = log_so3(filtered.R * z.R.transpose());
+  d.tail<3>() = filtered.t - z.t;
+  if (!eskf.last_rejected() && d.dot(cov.ldlt().solve(d)) <= chi2) return filtered;
+  eskf.hand_through(z, cov);
+  return z;
+}
+
 std::optional<Pose> PoseEskf::predict(double t) const {
   if (!have_) return std::nullopt;
   const double dt = std::max(0.0, t - t_);

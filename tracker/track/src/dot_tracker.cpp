@@ -50,6 +50,8 @@ constexpr double kFlipRad = 20.0 * 3.14159265358979323846 / 180.0;
 /// 100 : 1 the tuning seeds' fast walks gained 0.26 points tracked for 20
 /// more flipped frames, at 1000 : 1 0.22 points for 8.
 constexpr double kEvidenceLogOdds = 6.908;
+/// After a long loss: the share of the prior at the head's usual poses.
+constexpr double kUsualPoseWeight = 0.5;
 /// Share of the prediction at the largest manoeuvre the eskf allows: heads
 /// reverse or start a turn unseen, which the filter's own noise does not expect.
 constexpr double kManoeuvreWeight = 0.1;
@@ -116,6 +118,7 @@ void DotTracker::reset() {
   pixel_noise_.reset();
   noise_samples_ = 0;
   camera_stats_.reset();
+  head_poses_.reset();
   output_hyp_id_ = 0;
   output_slot_led_ = {-1, -1, -1, -1};
   last_eskf_dots_ = 4;
@@ -564,8 +567,16 @@ std::optional<DotTracker::Hypothesis> DotTracker::reacquire_by_evidence(const Do
   const EskfStep& st = eskf_.last_step();
   const OuMotion nominal{st.q_rot, st.q_trans, kHeadRotationTauS, kHeadTranslationTauS};
   const OuMotion wide = head_motion(cfg_.eskf, kMaxManoeuvreScale);
-  const MotionPrior prior{carry_ou(st, frame.t, nominal), carry_ou(st, frame.t, wide)};
-  const EvidenceModel m{var, camera_stats_.dropped_share(), camera_stats_.stray_share(), kManoeuvreWeight};
+  MotionPrior prior{carry_ou(st, frame.t, nominal), carry_ou(st, frame.t, wide)};
+  EvidenceModel m{var, camera_stats_.dropped_share(), camera_stats_.stray_share(), kManoeuvreWeight};
+  // Beyond the eskf's gap limit the carried state has spread over tens of
+  // degrees: where the head usually is (PoseDistribution) takes the place of
+  // the manoeuvre, at even weight.
+  const auto usual = head_poses_.prior();
+  if (frame.t - st.t > cfg_.eskf.max_gap_s && usual) {
+    prior.wide = *usual;
+    m.wide_weight = kUsualPoseWeight;
+  }
   std::vector<DotExplanation> all = explain_dots(frame, cam_, model_, var);
   for (auto& e : all) score_explanation(e, cam_, model_, m, prior);
   const EvidenceChoice c = choose_explanation(all, kFlipRad);
@@ -604,6 +615,7 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
   prev_frame_t_ = r.t;
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
+    head_poses_.add(r.raw_pose);
     if (cfg_.method == SolverMethod::thesis)  // the LM path adds its own in process_lm
       pixel_noise_.add(r.rms_px * r.rms_px * r.dots_used, r.dots_used);
     last_solve_t_ = r.t;
@@ -625,6 +637,7 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
           eskf_.reset();
           r.pose = eskf_.update(r.raw_pose, cov, r.t);
         }
+        r.pose = guard(eskf_, r.pose, r.raw_pose, cov, cfg_.guard_chi2);
         last_eskf_dots_ = dots.count;
         if (dots.count >= 4) resumed_on_three_ = false;
         else if (resumed) resumed_on_three_ = true;
@@ -632,15 +645,28 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
       }
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s && cfg_.method == SolverMethod::lm) {
-    if (auto p = cv_.predict(r.t)) {
-      r.state = PoseState::predicted;
-      if (cfg_.filter == FilterKind::eskf)
-        if (auto q = eskf_.predict(r.t)) p = q;  // the filter's velocities, not two noisy poses
-      r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
-    }
+    predict_output(r);
   }
-  detail::settle_output(r, last_output_);  // hold the last pose when lost; never pass a bad number on
+  detail::settle_output(r, last_output_);  // hold the last tracked pose when lost; never pass a bad number on
   return r;
+}
+
+void DotTracker::predict_output(TrackResult& r) {
+  auto p = cv_.predict(r.t);
+  if (cfg_.filter == FilterKind::eskf)
+    if (auto q = eskf_.predict(r.t)) p = q;  // the filter's velocities, not two noisy poses
+  if (!p || !last_output_) return;
+  // Only while the prediction stays within what the camera last saw: what
+  // it adds beyond the last tracked pose, and (with the eskf) its own
+  // spread, each within kPredictReachRad. Past it the output holds the
+  // last tracked pose (settle_output): a head that was turning when its
+  // dots went may have stopped, and a coasted pose held for a loss of
+  // seconds is off by all it coasted.
+  if (!detail::within_reach(*p, *last_output_, cfg_.filter == FilterKind::eskf ? &eskf_ : nullptr, r.t,
+                            cfg_.predict_reach_rad))
+    return;
+  r.state = PoseState::predicted;
+  r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
 }
 
 }  // namespace earshot::tracker

@@ -124,15 +124,17 @@ TrackResult LabelledTracker::finish(TrackResult r, const LabelledDots& dots) {
       case FilterKind::eskf: {
         pixel_noise_.add(r.rms_px * r.rms_px * dots.count, dots.count);
         const double var = cfg_.pixel_variance > 0.0 ? cfg_.pixel_variance : pixel_noise_.variance();
-        r.pose = eskf_.update(r.raw_pose, pose_covariance(r.raw_pose, dots.view(), cam_, model_, var), r.t);
+        const Mat6 cov = pose_covariance(r.raw_pose, dots.view(), cam_, model_, var);
+        r.pose = guard(eskf_, eskf_.update(r.raw_pose, cov, r.t), r.raw_pose, cov, cfg_.guard_chi2);
         break;
       }
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s) {
     std::optional<Pose> p = cv_.predict(r.t);
-    if (cfg_.filter == FilterKind::eskf && eskf_.initialised())
+    const bool eskf = cfg_.filter == FilterKind::eskf && eskf_.initialised();
+    if (eskf)
       if (auto q = eskf_.predict(r.t)) p = q;
-    if (p) {
+    if (p && last_output_ && detail::within_reach(*p, *last_output_, eskf ? &eskf_ : nullptr, r.t, cfg_.predict_reach_rad)) {
       r.state = PoseState::predicted;
       r.pose = *p;
     }

@@ -244,6 +244,12 @@ class PoseEskf {
   /// nullopt before the first update.
   [[nodiscard]] std::optional<Mat6> predicted_pose_covariance(double t) const;
   void reset() { have_ = false; }
+  /// The trackers' guard (dot_tracker.hpp: never worse than no filter): the
+  /// filter takes measurement z as its pose, with z's covariance and no
+  /// correlation to the velocity, whose spread widens to that of a fresh
+  /// start while its mean stays. The step stays linked to the one before
+  /// (no restart): the smoother runs through it.
+  void hand_through(const Pose& z, const Mat6& cov);
 
   [[nodiscard]] bool initialised() const { return have_; }
   [[nodiscard]] const Vec3& angular_velocity() const { return w_; }
@@ -316,6 +322,14 @@ class PoseEskf {
   int rejected_run_ = 0;
   EskfStep step_;
 };
+
+/// The guard that keeps the filter never worse than no filter: when the
+/// eskf skipped measurement z as an outlier, or its filtered pose lies
+/// beyond `chi2` in squared Mahalanobis distance from z under z's
+/// covariance, the motion model is wrong here (an impulsive reversal, a
+/// measurement no modelled acceleration explains): z is handed through
+/// (PoseEskf::hand_through) and returned; else the filtered pose.
+[[nodiscard]] Pose guard(PoseEskf& eskf, const Pose& filtered, const Pose& z, const Mat6& cov, double chi2);
 
 /// A filter step's pose carried across a gap with an Ornstein-Uhlenbeck
 /// velocity: over a loss longer than the velocity's correlation time a

@@ -1,7 +1,9 @@
 // The pose pipeline for one camera: dots in, beacon pose out.
 //   label (labeller.hpp) -> solve (solver.hpp) -> filter (filters.hpp)
 // It keeps a state per frame: tracking (solved from 3 or 4 dots), predicted
-// (too few dots, pose extrapolated for up to `predict_timeout_s`) or lost.
+// (too few dots, pose extrapolated for up to `predict_timeout_s` while it stays
+// within `predict_reach_rad` of the last tracked pose) or lost (the last
+// tracked pose held).
 //
 // Near-planar beacons (like the thesis's) admit two poses that fit one frame
 // almost equally well. After (re)acquisition the tracker follows every
@@ -79,9 +81,23 @@ struct TrackerConfig {
   FilterKind filter = FilterKind::none;
   LabellerOptions labeller{};
   double predict_timeout_s = 0.1;  ///< predicted state lasts at most this long
+  /// ... and only while the prediction moves the pose at most this far from
+  /// the last tracked output, and (eskf) its rotation spread stays within it
+  /// (rad): then the output holds the last tracked pose. 1 deg: a frame at
+  /// 100 deg/s.
+  double predict_reach_rad = 1.0 * 3.14159265358979323846 / 180.0;
   int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
-  double reacquire3_window_s = 3.0;  ///< after a loss, re-acquire from 3 dots this long
+  double reacquire3_window_s = 1e9;  ///< after a loss, re-acquire from 3 dots this long (any loss)
   EskfParams eskf{};              ///< head-motion model of the eskf filter
+  /// The guard (eskf): a measurement the filter skipped as an outlier, or
+  /// a filtered pose whose squared Mahalanobis distance from the frame's
+  /// measurement, under the measurement's covariance, exceeds this, hands
+  /// the measurement through (detail::guard). 100: the eskf's own manoeuvre
+  /// bound (EskfParams::manoeuvre_chi2), for the same reason: 8-px cells'
+  /// errors are not Gaussian, and at chi-square's 99.9 % (22.5) the guard
+  /// handed through ordinary quantisation errors (tuning seeds: seated,
+  /// thesis, 8-px, 0.72 -> 0.90 of raw LM's RMS rotation).
+  double guard_chi2 = 100.0;
   /// Pixel noise variance (px^2) for the eskf's measurement covariance:
   /// 0 estimates it from the residuals (PixelNoiseEstimator).
   double pixel_variance = 0.0;
@@ -155,6 +171,9 @@ class DotTracker {
   [[nodiscard]] bool rival_about_as_likely(const Hypothesis& best, const FrameContext& c) const;
   TrackResult process_thesis(const DotFrame& frame);
   TrackResult finish(TrackResult r, const DotFrame& frame);
+  /// A frame not tracked: the predicted pose while it stays near the last
+  /// tracked one (TrackerConfig::predict_reach_rad), else nothing (held).
+  void predict_output(TrackResult& r);
   /// After a loss, with the eskf's last state: the explanation of the dots
   /// (dot_evidence.hpp) 100 : 1 more likely than any pose more than 20 deg
   /// from it, given that state carried across the gap; nullopt when none is.
@@ -203,9 +222,10 @@ class DotTracker {
 
   PixelNoiseEstimator pixel_noise_;
   CameraBehaviour camera_stats_;
+  PoseDistribution head_poses_;  ///< where the head usually is (re-acquisition after a long loss)
   long noise_samples_ = 0;  ///< 4-dot fits the pixel noise estimate has seen
   ConstantVelocity cv_;
-  std::optional<Pose> last_output_;
+  std::optional<Pose> last_output_;  ///< the last pose given out as tracked
   std::optional<Pose> last_raw_;
   double last_solve_t_ = -1e300;
 };

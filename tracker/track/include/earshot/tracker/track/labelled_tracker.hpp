@@ -24,6 +24,8 @@ class LabelledTracker {
   /// slot that holds a dot while tracking.
   TrackResult process(const DotFrame& frame);
   void reset();
+  /// The eskf filter (its last step feeds the offline smoother).
+  [[nodiscard]] const PoseEskf& eskf() const { return eskf_; }
 
  private:
   struct Hypothesis {

@@ -801,7 +801,10 @@ void listener(const Options& o) {
         cfg.pixels = PixelModel::gaussian;
         cfg.noise_px = 0.3;
         const auto walk = make_walk(cam, tag, cfg, o.frames, true);
-        all.merge(bench::score_walk(cam, tag, walk, true, with_eskf(o)));
+        const bench::WalkScores s = bench::score_walk(cam, tag, walk, true, with_eskf(o));
+        if (o.per_seed)
+          bench::print_row(std::string("tag 60 mm, ") + std::string(motion_profile_name(motion)) + ", seed " + std::to_string(seed), s);
+        all.merge(s);
       }
       bench::print_row(std::string("tag 60 mm, ") + std::string(motion_profile_name(motion)), all);
     }

@@ -42,12 +42,13 @@ constexpr auto kStaleDots = std::chrono::milliseconds(300);
 }  // namespace
 
 LiveTracker::LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg,
-                         PoseCallback on_pose)
+                         PoseCallback on_pose, FrameCallback on_frame)
     : source_(std::move(source)),
       slot_(slot),
       keep_running_after_end_(cfg.keep_running_after_end),
       pipeline_(with_source_model(cfg, *source_)),
-      on_pose_(std::move(on_pose)) {
+      on_pose_(std::move(on_pose)),
+      on_frame_(std::move(on_frame)) {
   status_.source = source_->describe();
   thread_ = std::jthread([this](std::stop_token st) { run(st); });
 }
@@ -80,9 +81,14 @@ struct LiveTracker::Loop {
 };
 
 void LiveTracker::process(const SourceEvent& e, double now) {
-  if (const auto pose = pipeline_.process(e, now)) {
-    if (slot_.publish(*pose) && on_pose_) on_pose_(slot_.load());
-  }
+  const auto pose = pipeline_.process(e, now);
+  if (!pose) return;
+  if (slot_.publish(*pose) && on_pose_) on_pose_(slot_.load());
+  if (!on_frame_ || std::holds_alternative<SourceNote>(e)) return;
+  FrameRow row{*pose, std::nullopt};
+  const TrackResult& tr = pipeline_.last_track();
+  if (const auto* f = std::get_if<CameraFrame>(&e); f && tr.t == f->dots.t && tr.has_pose) row.camera = tr.pose;
+  on_frame_(row);
 }
 
 void LiveTracker::update_status(Loop& l, Clock::time_point wall) {

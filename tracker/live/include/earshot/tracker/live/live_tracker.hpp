@@ -37,6 +37,17 @@ class LiveTracker {
   /// Keep it short: the next frame waits for it.
   using PoseCallback = std::function<void(const HeadPose&)>;
 
+  /// One tracker frame (a camera frame, or a pose from a source that solves
+  /// its own), for recordings: what the pipeline put out for it, with the
+  /// tracker's state, and for camera frames the beacon's absolute pose in
+  /// the camera frame (mm), once the tracker has one. Notes carry no frame
+  /// and make no row.
+  struct FrameRow {
+    HeadPose listener;
+    std::optional<Pose> camera;
+  };
+  using FrameCallback = std::function<void(const FrameRow&)>;
+
   /// What the source said about its device, from its notes.
   enum class Link {
     unknown,       ///< nothing said yet (simulator, replay, UDP: no device to find)
@@ -67,7 +78,7 @@ class LiveTracker {
   };
 
   LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg = {},
-              PoseCallback on_pose = {});
+              PoseCallback on_pose = {}, FrameCallback on_frame = {});
   ~LiveTracker();  ///< stops and joins
   LiveTracker(const LiveTracker&) = delete;
   LiveTracker& operator=(const LiveTracker&) = delete;
@@ -98,6 +109,7 @@ class LiveTracker {
   bool keep_running_after_end_;
   LivePipeline pipeline_;
   PoseCallback on_pose_;
+  FrameCallback on_frame_;
   std::atomic<bool> recenter_{false};
   std::atomic<bool> running_{true};
   mutable std::mutex status_mutex_;  // guards status_ (never touched by the audio side)

@@ -110,6 +110,7 @@ struct Options {
   std::vector<std::string> traces;  ///< with --listener: recorded heads (head_trace.hpp)
   std::string trace_dir = "../shared/data/real_motion";  ///< every *.csv there, when no --trace is given
   bool per_seed = false;        ///< with --listener: a row per seed too
+  bool lag_only = false;        ///< only the lag table
   TrackerConfig base{};         ///< with --listener: --guard-chi2, --predict-reach-deg
 };
 
@@ -881,6 +882,8 @@ int main(int argc, char** argv) {
       o.base.guard_chi2 = std::atof(next());
     } else if (a == "--predict-reach-deg") {
       o.base.predict_reach_rad = std::atof(next()) * M_PI / 180.0;
+    } else if (a == "--lag") {
+      o.lag_only = true;
     } else if (a == "--reacquire3-window") {
       o.base.reacquire3_window_s = std::atof(next());
     } else if (a == "--per-seed") {
@@ -909,6 +912,10 @@ int main(int argc, char** argv) {
   }
   if (o.listener) {
     listener(o);
+    return 0;
+  }
+  if (o.lag_only) {
+    lag_table();
     return 0;
   }
   if (o.misses) {

@@ -426,7 +426,7 @@ Pose guard(PoseEskf& eskf, const Pose& filtered, const Pose& z, const Mat6& cov,
   Eigen::Matrix<double, 6, 1> d;
   d.head<3>() = log_so3(filtered.R * z.R.transpose());
   d.tail<3>() = filtered.t - z.t;
-  if (!eskf.last_rejected() && d.dot(cov.ldlt().solve(d)) <= chi2) return filtered;
+  if (eskf.last_rejected() || d.dot(cov.ldlt().solve(d)) <= chi2) return filtered;
   eskf.hand_through(z, cov);
   return z;
 }

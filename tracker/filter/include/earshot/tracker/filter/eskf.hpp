@@ -323,12 +323,14 @@ class PoseEskf {
   EskfStep step_;
 };
 
-/// The guard that keeps the filter never worse than no filter: when the
-/// eskf skipped measurement z as an outlier, or its filtered pose lies
-/// beyond `chi2` in squared Mahalanobis distance from z under z's
-/// covariance, the motion model is wrong here (an impulsive reversal, a
-/// measurement no modelled acceleration explains): z is handed through
-/// (PoseEskf::hand_through) and returned; else the filtered pose.
+/// The guard that keeps the filter never worse than no filter where its
+/// motion model is wrong: when the filtered pose lies beyond `chi2` in
+/// squared Mahalanobis distance from measurement z under z's covariance (an
+/// impulsive reversal the filter lags behind), z is handed through
+/// (PoseEskf::hand_through) and returned; else the filtered pose. A
+/// measurement the eskf skipped as an outlier is not handed through: on the
+/// fast walks those are strays and wrong roots far more often than heads
+/// (held-out, thesis, integer: 0.86 -> 1.11 of raw LM's RMS when they were).
 [[nodiscard]] Pose guard(PoseEskf& eskf, const Pose& filtered, const Pose& z, const Mat6& cov, double chi2);
 
 /// A filter step's pose carried across a gap with an Ornstein-Uhlenbeck

@@ -30,7 +30,13 @@
 // view, and two LEDs with strays, scored by the pixel noise, the camera's
 // learnt dropout and stray shares and the carried state; the likeliest is
 // taken when it is 1000 : 1 against every explanation more than 20 deg from
-// it and passes the same reachability test.
+// it and passes the same reachability test. This holds after any loss: beyond
+// the eskf's gap limit, where the carried state has spread over tens of
+// degrees, the prior's wide part is where the head usually is (a
+// PoseDistribution learnt from the tracked poses), at even weight; the
+// 45-deg beam is in every explanation (an LED it puts in view but unseen is
+// a dropout), so a return whose fourth LED is beyond its beam edge is taken
+// from its first three dots.
 //
 // A 4-dot acquisition, after a loss or in place of a track on three dots,
 // must be reachable too when the eskf's state deserves trust: its track was
@@ -89,14 +95,13 @@ struct TrackerConfig {
   int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
   double reacquire3_window_s = 1e9;  ///< after a loss, re-acquire from 3 dots this long (any loss)
   EskfParams eskf{};              ///< head-motion model of the eskf filter
-  /// The guard (eskf): a measurement the filter skipped as an outlier, or
-  /// a filtered pose whose squared Mahalanobis distance from the frame's
-  /// measurement, under the measurement's covariance, exceeds this, hands
-  /// the measurement through (detail::guard). 100: the eskf's own manoeuvre
-  /// bound (EskfParams::manoeuvre_chi2), for the same reason: 8-px cells'
-  /// errors are not Gaussian, and at chi-square's 99.9 % (22.5) the guard
-  /// handed through ordinary quantisation errors (tuning seeds: seated,
-  /// thesis, 8-px, 0.72 -> 0.90 of raw LM's RMS rotation).
+  /// The guard (eskf): a filtered pose whose squared Mahalanobis distance
+  /// from the frame's measurement, under the measurement's covariance,
+  /// exceeds this hands the measurement through (guard(), eskf.hpp). 100:
+  /// the eskf's own manoeuvre bound (EskfParams::manoeuvre_chi2), for the
+  /// same reason: 8-px cells' errors are not Gaussian, and at chi-square's
+  /// 99.9 % (22.5) the guard handed through ordinary quantisation errors
+  /// (tuning seeds: seated, thesis, 8-px, 0.72 -> 0.90 of raw LM's RMS).
   double guard_chi2 = 100.0;
   /// Pixel noise variance (px^2) for the eskf's measurement covariance:
   /// 0 estimates it from the residuals (PixelNoiseEstimator).

@@ -128,6 +128,12 @@ void Simulator::step_profile(double dt, double t) {
     active_ = next;
     next_switch_t_ = t + 10.0 + 10.0 * uniform_(rng_);
   }
+  step_ou_head(dt);
+  step_turns(t);
+  step_rhythms(dt, t);
+}
+
+void Simulator::step_ou_head(double dt) {
   const ProfileBox b = box_of(active_);
   // The OU head: velocity with the profile's RMS and correlation time,
   // reflected at the box's bounds.
@@ -148,17 +154,20 @@ void Simulator::step_profile(double dt, double t) {
     if (s_[k] > hi[i]) v_[k] = -std::abs(v_[k]);
     if (s_[k] < lo[i]) v_[k] = std::abs(v_[k]);
   }
+}
 
+void Simulator::start_turn(double to, double t) {
+  const double amp = std::abs(to - turn_yaw_) / kDeg;
+  const double peak = std::min(500.0, 8.0 * amp * (0.85 + 0.3 * uniform_(rng_)));
+  turn_from_ = turn_yaw_;
+  turn_to_ = to;
+  turn_t0_ = t;
+  turn_T_ = std::max(0.05, 1.875 * amp / peak);  // minimum jerk: peak = 1.875 amp / T
+  turning_ = true;
+}
+
+void Simulator::step_turns(double t) {
   // Quick turns: toward a sound while orienting; back to the front otherwise.
-  auto start_turn = [&](double to) {
-    const double amp = std::abs(to - turn_yaw_) / kDeg;
-    const double peak = std::min(500.0, 8.0 * amp * (0.85 + 0.3 * uniform_(rng_)));
-    turn_from_ = turn_yaw_;
-    turn_to_ = to;
-    turn_t0_ = t;
-    turn_T_ = std::max(0.05, 1.875 * amp / peak);  // minimum jerk: peak = 1.875 amp / T
-    turning_ = true;
-  };
   if (turning_) {
     const double u = std::min(1.0, (t - turn_t0_) / turn_T_);
     turn_yaw_ = turn_from_ + (turn_to_ - turn_from_) * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
@@ -169,21 +178,23 @@ void Simulator::step_profile(double dt, double t) {
   } else if (active_ == MotionProfile::orienting && t >= next_turn_t_) {
     double to = (2.0 * uniform_(rng_) - 1.0) * kTurnYawMaxDeg * kDeg;
     if (std::abs(to - turn_yaw_) < 20.0 * kDeg) to = turn_yaw_ + std::copysign(20.0 * kDeg, -turn_yaw_);
-    start_turn(to);
+    start_turn(to, t);
   } else if (active_ == MotionProfile::listener && !looking_away_ && t >= next_look_t_) {
     // A look away: far enough that no LED stays in its beam.
     const double side = uniform_(rng_) < 0.5 ? -1.0 : 1.0;
-    start_turn(side * (70.0 + 40.0 * uniform_(rng_)) * kDeg);
+    start_turn(side * (70.0 + 40.0 * uniform_(rng_)) * kDeg, t);
     looking_away_ = true;
     look_back_t_ = t + turn_T_ + 1.5 + 1.5 * uniform_(rng_);
   } else if (active_ == MotionProfile::listener && looking_away_ && t >= look_back_t_) {
-    start_turn(0.0);
+    start_turn(0.0, t);
     looking_away_ = false;
     next_look_t_ = t + 60.0 + 60.0 * uniform_(rng_);
   } else if (active_ != MotionProfile::orienting && active_ != MotionProfile::listener && std::abs(turn_yaw_) > 1e-6) {
-    start_turn(0.0);
+    start_turn(0.0, t);
   }
+}
 
+void Simulator::step_rhythms(double dt, double t) {
   // Nodding bouts (a bout under way finishes whatever the profile).
   if (bout_t0_ >= 0.0 && t - bout_t0_ >= bout_T_) {
     bout_t0_ = -1.0;

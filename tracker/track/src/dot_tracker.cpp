@@ -658,7 +658,7 @@ void DotTracker::predict_output(TrackResult& r) {
   if (!p || !last_output_) return;
   // Only while the prediction stays within what the camera last saw: what
   // it adds beyond the last tracked pose, and (with the eskf) its own
-  // spread, each within kPredictReachRad. Past it the output holds the
+  // spread, each within TrackerConfig::predict_reach_rad. Past it the output holds the
   // last tracked pose (settle_output): a head that was turning when its
   // dots went may have stopped, and a coasted pose held for a loss of
   // seconds is off by all it coasted.

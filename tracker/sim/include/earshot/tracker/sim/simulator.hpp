@@ -128,6 +128,11 @@ class Simulator {
  private:
   void step(double dt);
   void step_profile(double dt, double t);
+  // The steps of step_profile, in order.
+  void step_ou_head(double dt);
+  void step_turns(double t);
+  void start_turn(double to, double t);
+  void step_rhythms(double dt, double t);
   void step_sweep(double dt);
   void draw_sweep_speed(size_t axis);
   [[nodiscard]] Pose profile_pose(double t) const;

@@ -2,12 +2,20 @@
 """Plot estimated against true head pose over time, like the thesis's figures 73-76.
 
     /usr/bin/python3 tools/plot_poses.py --dots DOTS.csv --poses POSES.csv --out OUT.png [--title T]
+    /usr/bin/python3 tools/plot_poses.py --dots DOTS.csv --known RAW.csv DEFAULT.csv [MORE.csv ...]
+                                         [--labels raw,default,...] --out OUT.png [--title T]
 
 DOTS.csv is a simulated Dots CSV (with gt_* ground-truth columns), POSES.csv the output
 of `earshot track solve`. The figure shows translation (mm) and rotation (yaw, pitch,
 roll in degrees, R = Ry(yaw) Rx(pitch) Rz(roll) in the camera frame) estimated and true,
 and the translation and rotation errors over time; frames that are not `tracking` are
 shaded. Exit code 2 with a one-line message on bad input.
+
+--known: what the listener hears. The rotation error of every row written, against what
+the camera could know (the truth while 3+ LEDs are seen, else the truth of the last frame
+with 3+ LEDs), for each Poses CSV given (the first one raw LM's, `--filter none`), beside
+a hold-the-last-tracked-pose baseline made from the first; frames with fewer than 3 LEDs
+seen are shaded.
 """
 import argparse
 
@@ -66,13 +74,89 @@ def ypr_deg(R):
     return np.degrees(np.stack([yaw, pitch, roll], axis=1))
 
 
+def angle_deg(Ra, Rb):
+    rel = np.einsum("nji,njk->nik", Ra, Rb)
+    return np.degrees(np.arccos(np.clip((np.trace(rel, axis1=1, axis2=2) - 1) / 2, -1, 1)))
+
+
+def known_figure(a):
+    """--known: every row's rotation error against what the camera could know."""
+    gt = read_columns(a.dots, ["t_s", "gt_qw", "gt_qx", "gt_qy", "gt_qz", "gt_led1", "gt_led2", "gt_led3", "gt_led4"])
+    t = gt["t_s"]
+    n = len(t)
+    leds = sum((gt[f"gt_led{k}"] > 0).astype(int) for k in range(1, 5))
+    Rt = quat_to_matrix(gt["gt_qw"], gt["gt_qx"], gt["gt_qy"], gt["gt_qz"])
+    known = np.empty_like(Rt)
+    have = np.zeros(n, dtype=bool)
+    last = None
+    for i in range(n):
+        if leds[i] >= 3:
+            last = Rt[i]
+        if last is not None:
+            known[i] = last
+            have[i] = True
+    labels = a.labels.split(",") if a.labels else [f"poses {k + 1}" for k in range(len(a.known))]
+    if len(labels) != len(a.known):
+        fail(f"--labels: {len(labels)} labels for {len(a.known)} Poses CSVs")
+    series = []
+    for path, label in zip(a.known, labels):
+        est = read_columns(path, ["t_s", "state", "qw", "qx", "qy", "qz"])
+        if len(est["t_s"]) != n:
+            fail(f"{path}: {len(est['t_s'])} rows but {a.dots} has {n}: not the same run")
+        series.append((label, est))
+    # The hold-last baseline: the first (raw) row's tracked poses, held.
+    raw = series[0][1]
+    Rr = quat_to_matrix(raw["qw"], raw["qx"], raw["qy"], raw["qz"])
+    Rh = Rr.copy()
+    tracked = raw["state"] == "tracking"
+    first = np.argmax(tracked) if tracked.any() else n
+    for i in range(n):
+        if i > 0 and not tracked[i]:
+            Rh[i] = Rh[i - 1]
+    fig, ax = plt.subplots(2, 1, figsize=(14, 8), sharex=True)
+    styles = [("tab:gray", 1.2), ("tab:blue", 0.9), ("tab:green", 0.9), ("tab:purple", 0.9)]
+    curves = [(f"hold-last ({labels[0]}'s tracked poses, held)", Rh, np.arange(n) >= first, "black", 1.6)]
+    for k, (label, est) in enumerate(series):
+        c, w = styles[k % len(styles)]
+        # Rows from the first pose on (before it the file holds no pose, only its place).
+        written = np.maximum.accumulate(est["state"] == "tracking")
+        curves.append((label, quat_to_matrix(est["qw"], est["qx"], est["qy"], est["qz"]), written, c, w))
+    for label, R, written, c, w in curves:
+        e = angle_deg(known, R)
+        e[~(have & written)] = np.nan
+        p99 = np.nanpercentile(e, 99) if np.isfinite(e).any() else np.nan
+        for a_ in ax:
+            a_.plot(t, e, color=c, lw=w, label=f"{label}: p99 {p99:.1f}, max {np.nanmax(e):.1f} deg")
+    ax[0].set_ylabel("error (deg)")
+    ax[0].set_title("Rotation error of every row against what the camera could know")
+    ax[1].set_ylabel("error (deg), log")
+    ax[1].set_yscale("log")
+    ax[1].set_ylim(1e-2, 200)
+    ax[1].set_xlabel("time (s)")
+    for a_ in ax:
+        a_.fill_between(t, 0, 1, where=leds < 3, color="0.88", transform=a_.get_xaxis_transform(), lw=0,
+                        label="fewer than 3 LEDs seen")
+        a_.legend(loc="upper right", fontsize=8)
+        a_.grid(alpha=0.3)
+    fig.suptitle(a.title or f"{', '.join(a.known)} against {a.dots}")
+    fig.tight_layout()
+    save_figure(fig, a.out, dpi=90)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--dots", required=True, help="Dots CSV with ground truth (earshot track simulate)")
-    ap.add_argument("--poses", required=True, help="Poses CSV (earshot track solve)")
+    ap.add_argument("--poses", help="Poses CSV (earshot track solve)")
+    ap.add_argument("--known", nargs="+", help="Poses CSVs, raw LM's first: every row against what the camera knew")
+    ap.add_argument("--labels", default=None, help="with --known: comma-separated names of the Poses CSVs")
     ap.add_argument("--out", required=True, help="PNG to write")
     ap.add_argument("--title", default=None)
     a = ap.parse_args()
+    if a.known:
+        known_figure(a)
+        return
+    if not a.poses:
+        fail("--poses or --known is required")
 
     gt = read_columns(a.dots, ["t_s", "gt_tx_mm", "gt_ty_mm", "gt_tz_mm", "gt_qw", "gt_qx", "gt_qy", "gt_qz"])
     est = read_columns(a.poses, ["t_s", "state", "tx_mm", "ty_mm", "tz_mm", "qw", "qx", "qy", "qz"])

@@ -1,5 +1,6 @@
 #include "track_commands.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -17,6 +18,7 @@
 #include "earshot/tracker/core/led_model.hpp"
 #include "earshot/tracker/core/poses_csv.hpp"
 #include "earshot/tracker/filter/segment_vetting.hpp"
+#include "earshot/tracker/sim/head_trace.hpp"
 #include "earshot/tracker/sim/simulator.hpp"
 #include "track_calibrate.hpp"
 #include "track_video.hpp"
@@ -44,6 +46,7 @@ struct SimulateOptions {
   CameraOptions cam;
   SimulatorConfig sim;
   long frames = 10000;
+  bool frames_given = false;
   std::string pixels = "integer";
   std::string motion = "walk";
   std::string out;
@@ -114,18 +117,26 @@ void run_simulate(const SimulateOptions& o) {
   const auto px = pixel_model_from(o.pixels);
   if (!px) throw InputError::at("--pixels", 0, "", "unknown pixel model '" + o.pixels + "'");
   cfg.pixels = *px;
-  const auto motion = motion_profile_from(o.motion);
-  if (!motion)
-    throw InputError::at("--motion", 0, "",
-                         "unknown motion '" + o.motion + "' (walk, seated, orienting, nodding, walking, tremor, mixed, listener)");
-  cfg.motion = *motion;
+  long frames = o.frames;
+  if (o.motion.starts_with("trace:")) {
+    // A recorded head (head_trace.hpp); the whole trace unless --frames is given.
+    cfg.trace = std::make_shared<const HeadTrace>(HeadTrace::load(o.motion.substr(6)));
+    if (!o.frames_given) frames = static_cast<long>(cfg.trace->duration() * cfg.rate_hz);
+  } else {
+    const auto motion = motion_profile_from(o.motion);
+    if (!motion)
+      throw InputError::at("--motion", 0, "",
+                           "unknown motion '" + o.motion +
+                               "' (walk, seated, orienting, nodding, walking, tremor, mixed, listener, sweep, trace:FILE)");
+    cfg.motion = *motion;
+  }
   Simulator sim(o.cam.camera(), o.cam.model(), cfg);
   std::ofstream file;
   std::ostream& out = open_out(o.out, file);
   DotsCsvWriter w(out, true);
   SpeedCollector speed;
   long seen3 = 0;
-  for (long i = 0; i < o.frames; ++i) {
+  for (long i = 0; i < frames; ++i) {
     const DotFrame f = sim.next();
     speed.add(f.truth->pose, f.t);
     if (leds_seen(f) >= 3) ++seen3;
@@ -136,7 +147,7 @@ void run_simulate(const SimulateOptions& o) {
   const SpeedStats st = speed.stats();
   std::FILE* info = o.out == "-" ? stderr : stdout;
   std::fprintf(info, "motion %s: angular speed p50 %.1f  p99 %.1f  max %.1f deg/s; %.2f %% of frames with >= 3 LEDs seen\n",
-               o.motion.c_str(), st.p50, st.p99, st.max, 100.0 * static_cast<double>(seen3) / static_cast<double>(o.frames));
+               o.motion.c_str(), st.p50, st.p99, st.max, 100.0 * static_cast<double>(seen3) / static_cast<double>(std::max(1L, frames)));
 }
 
 TrackerConfig tracker_config(const std::string& method, const std::string& filter, double gate) {
@@ -224,12 +235,17 @@ void add_track_commands(CLI::App& track) {
   auto sim_opts = std::make_shared<SimulateOptions>();
   auto* sim = track.add_subcommand("simulate", "Simulate the Wii camera watching the beacon on a seeded random walk; writes a Dots CSV with ground truth");
   sim->add_option("--out,-o", sim_opts->out, "Dots CSV to write ('-' for stdout)")->required();
-  sim->add_option("--frames,-n", sim_opts->frames, "Number of frames")->capture_default_str()->check(CLI::PositiveNumber);
+  sim->add_option("--frames,-n", sim_opts->frames, "Number of frames (trace:FILE: the whole trace unless given)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber)
+      ->each([sim_opts](const std::string&) { sim_opts->frames_given = true; });
   sim->add_option("--seed", sim_opts->sim.seed, "Random seed")->capture_default_str();
   sim->add_option("--rate", sim_opts->sim.rate_hz, "Camera frame rate, Hz")->capture_default_str()->check(CLI::PositiveNumber);
   sim->add_option("--motion", sim_opts->motion,
                   "Head motion: walk (the original random walk), seated, orienting (quick turns up to 500 deg/s), "
-                  "nodding, walking, tremor, mixed, listener (seated, with a look away every minute or so: the demo's)")
+                  "nodding, walking, tremor, mixed, listener (seated, with a look away every minute or so: the demo's), "
+                  "sweep (fast, reversing in one frame at its range ends), trace:FILE (a recorded head: "
+                  "t_s,qw,qx,qy,qz[,x_m,y_m,z_m], see tracker/sim/.../head_trace.hpp)")
       ->capture_default_str();
   sim->add_option("--pixels", sim_opts->pixels, "Pixel model: exact, integer, quantize8 (thesis), gaussian")->capture_default_str();
   sim->add_option("--noise", sim_opts->sim.noise_px, "Pixel noise sigma for --pixels gaussian")->capture_default_str();

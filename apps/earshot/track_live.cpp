@@ -1,11 +1,12 @@
 // `earshot track live` and `earshot track record`: the live tracker from the
 // command line. `live` runs the tracker thread on a source and prints the
 // pose and state as they change (one updating line on a terminal, plain
-// lines otherwise), optionally recording every published pose as a Pose
-// track CSV for `earshot render --pose-track` and sending them on to other
-// programs (--send: OSC for SPARTA, IEM or Earshot, opentrack's packet);
-// `record` writes a camera source's raw dots as a Dots CSV for `track solve`
-// or `--source replay:`.
+// lines otherwise), optionally recording one row per tracker frame (pose
+// and state) as a Pose track CSV for `earshot render --pose-track`, with
+// --record-camera the beacon's absolute pose in the camera frame, and sending
+// the poses on to other programs (--send: OSC for SPARTA, IEM or Earshot,
+// opentrack's packet); `record` writes a camera source's raw dots as a Dots
+// CSV for `track solve` or `--source replay:`.
 #include <unistd.h>
 
 #include <chrono>
@@ -38,6 +39,7 @@ using clock = std::chrono::steady_clock;
 struct LiveOptions {
   std::string source = "wiimote";
   std::string record;
+  std::string record_camera;  // live: the beacon's absolute pose in the camera frame, per frame
   std::string out;
   double duration_s = 0.0;  // 0: until Ctrl-C (or SIGTERM, SIGHUP) or the source ends
   bool fast = false;
@@ -71,13 +73,36 @@ std::string pose_line(const HeadPose& p, const LiveTracker::Status& st) {
   return buf;
 }
 
+/// The beacon's pose in the camera frame (mm, x right, y down, z along the
+/// optical axis) as a Pose track row: metres and a unit quaternion in the
+/// same axes, with the frame's time and state.
+HeadPose camera_row(const LiveTracker::FrameRow& row) {
+  HeadPose h;
+  h.t = row.listener.t;
+  h.state = row.listener.state;
+  const Pose& p = *row.camera;
+  h.position = {p.t.x() * 1e-3, p.t.y() * 1e-3, p.t.z() * 1e-3};
+  h.orientation = to_common(p.quaternion());
+  return h;
+}
+
 void run_live(const LiveOptions& o) {
-  std::ofstream file;
-  std::optional<PoseTrackCsvWriter> writer;
+  // Recordings: one row per tracker frame from the first (camera frames, or
+  // poses from a source that solves its own), with the state; notes make no
+  // row. --record-camera: the same frames' beacon pose in the camera frame,
+  // absolute (not relative to the recentred reference), from the first
+  // frame the tracker has a pose for.
+  std::ofstream file, camera_file;
+  std::optional<PoseTrackCsvWriter> writer, camera_writer;
   if (!o.record.empty()) {
     file.open(o.record);
     if (!file) throw InputError::at(o.record, 0, "", "cannot create file");
-    writer.emplace(file);
+    writer.emplace(file, true);
+  }
+  if (!o.record_camera.empty()) {
+    camera_file.open(o.record_camera);
+    if (!camera_file) throw InputError::at(o.record_camera, 0, "", "cannot create file");
+    camera_writer.emplace(camera_file, true);
   }
   LiveConfig cfg;
   cfg.camera = Camera::with_focal(o.focal);
@@ -96,9 +121,13 @@ void run_live(const LiveOptions& o) {
   std::uint64_t rows = 0;  // written by the tracker thread; read after it is joined
   std::string sent;        // what the senders did, one line each
   {
-    LiveTracker tracker(make_source(o, false), slot, cfg, [&writer, &rows](const HeadPose& p) {
-      if (writer && writer->write(p)) ++rows;
-    });
+    LiveTracker::FrameCallback on_frame;
+    if (writer || camera_writer)
+      on_frame = [&writer, &camera_writer, &rows](const LiveTracker::FrameRow& row) {
+        if (writer && writer->write(row.listener)) ++rows;
+        if (camera_writer && row.camera) camera_writer->write(camera_row(row));
+      };
+    LiveTracker tracker(make_source(o, false), slot, cfg, {}, std::move(on_frame));
     std::fprintf(stderr, "earshot: tracking from %s%s\n", tracker.status().source.c_str(),
                  tty ? " (Ctrl-C to stop)" : "");
     for (const auto& s : tracker.senders().senders()) std::fprintf(stderr, "earshot: sending poses to %s\n", s->describe().c_str());
@@ -127,8 +156,12 @@ void run_live(const LiveOptions& o) {
   if (writer) {
     file.close();
     if (!file) throw InputError::at(o.record, 0, "", "write failed");
-    std::fprintf(stderr, "earshot: recorded %llu poses to %s\n", static_cast<unsigned long long>(rows),
+    std::fprintf(stderr, "earshot: recorded %llu frames to %s\n", static_cast<unsigned long long>(rows),
                  o.record.c_str());
+  }
+  if (camera_writer) {
+    camera_file.close();
+    if (!camera_file) throw InputError::at(o.record_camera, 0, "", "write failed");
   }
   for (std::size_t at = 0, nl; (nl = sent.find('\n', at)) != std::string::npos; at = nl + 1)
     std::fprintf(stderr, "earshot: %s\n", sent.substr(at, nl - at).c_str());
@@ -184,7 +217,12 @@ void add_track_live_commands(CLI::App& track) {
                    "interface: anyone on the network could then turn your head)");
   live->add_option("--filter", lo->filter, "Pose filter for camera sources: eskf (Kalman, default), one-euro, median5, none")
       ->capture_default_str();
-  live->add_option("--record", lo->record, "Write every published pose as a Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz)");
+  live->add_option("--record", lo->record,
+                   "Write one row per tracker frame from the first, the listener pose and the tracker's state, as a "
+                   "Pose track CSV (t_s,x_m,y_m,z_m,qw,qx,qy,qz,state)");
+  live->add_option("--record-camera", lo->record_camera,
+                   "Also write each frame's absolute beacon pose in the camera frame (x right, y down, z along the "
+                   "optical axis; metres) with the state, in the same columns");
   live->add_option("--send", lo->send,
                    "Send every pose on (repeatable): " + std::string(kSendSpecs) +
                        "; 127.0.0.1 unless a host is named, at most rate (100) poses a second (docs/OSC.md)");

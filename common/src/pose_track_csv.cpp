@@ -59,7 +59,9 @@ std::vector<HeadPose> load_pose_track_csv(const std::filesystem::path& path) {
   return read_pose_track_csv(in, path.string());
 }
 
-PoseTrackCsvWriter::PoseTrackCsvWriter(std::ostream& out) : out_(out) { out_ << "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n"; }
+PoseTrackCsvWriter::PoseTrackCsvWriter(std::ostream& out, bool with_state) : out_(out), with_state_(with_state) {
+  out_ << (with_state_ ? "t_s,x_m,y_m,z_m,qw,qx,qy,qz,state\n" : "t_s,x_m,y_m,z_m,qw,qx,qy,qz\n");
+}
 
 bool PoseTrackCsvWriter::write(const HeadPose& p) {
   if (!p.finite() || (any_ && p.t <= last_t_)) return false;
@@ -68,6 +70,7 @@ bool PoseTrackCsvWriter::write(const HeadPose& p) {
   out_ << std::setprecision(10) << p.t << std::setprecision(8);
   for (double v : p.position) out_ << ',' << v;
   for (double v : p.orientation) out_ << ',' << v;
+  if (with_state_) out_ << ',' << pose_state_name(p.state);
   out_ << '\n';
   return true;
 }

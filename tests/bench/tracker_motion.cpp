@@ -6,6 +6,16 @@
 //                  [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O]
 //                  [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]]
 //                  [--ambiguity [--flip-log]]
+//                  [--listener [--class real,seated,fast,sweep,tag] [--trace FILE]... [--trace-dir DIR] [--per-seed]]
+//
+// --listener: what the listener hears (listener_scores.hpp), per motion
+// class and beacon: recorded heads (head_trace.hpp; every *.csv of
+// --trace-dir, default ../shared/data/real_motion, or each --trace) seen by
+// the thesis beacon at f = 1280 and the headband beacon
+// (tracker/models/headband.json) at f = 1350, integer pixels, 45 deg beams;
+// seated, fast (issue 18's walk) and sweep (a second fast generator) walks
+// on --seeds; and the webcam tag path (a 60 mm tag's labelled corners,
+// 0.3 px noise) on seated and orienting walks.
 //
 // --ambiguity: the fast walks' 3+ LED frames by what the dots can decide at
 // that frame (frame_ambiguity.hpp), against what the eskf tracker did; with
@@ -29,10 +39,13 @@
 // by the frame's true angular speed and acceleration, by the phase of the
 // motion (turning faster than 40 deg/s, or how long since) and by what the
 // filter did (quantisation model, process noise, rotation NIS).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,7 +55,10 @@
 #include "earshot/tracker/solve/lm_refine.hpp"
 #include "earshot/tracker/filter/segment_vetting.hpp"
 #include "earshot/tracker/sim/simulator.hpp"
+#include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/sim/head_trace.hpp"
 #include "frame_ambiguity.hpp"
+#include "listener_scores.hpp"
 
 using namespace earshot::tracker;
 using earshot::PoseState;
@@ -89,6 +105,13 @@ struct Options {
   bool vet = true;              ///< the RTS row drops segments no head motion connects (--no-vet: keeps them)
   bool eskf_split = false;      ///< the eskf's squared rotation error against the ML limit's, by frame class
   bool ambiguity = false;       ///< the fast walks' frames by what the dots can decide (frame_ambiguity.hpp)
+  bool listener = false;        ///< what the listener hears, per motion class and beacon (listener_scores.hpp)
+  std::string classes;          ///< with --listener: real,seated,fast,sweep,tag (empty: all)
+  std::vector<std::string> traces;  ///< with --listener: recorded heads (head_trace.hpp)
+  std::string trace_dir = "../shared/data/real_motion";  ///< every *.csv there, when no --trace is given
+  bool per_seed = false;        ///< with --listener: a row per seed too
+  bool lag_only = false;        ///< only the lag table
+  TrackerConfig base{};         ///< with --listener: --guard-chi2, --predict-reach-deg
 };
 
 /// --eskf-split: the eskf's squared rotation error on 4-dot frames against
@@ -663,6 +686,132 @@ void ambiguity(const Options& o) {
     }
 }
 
+
+/// The headband beacon (tracker/models/headband.json): four LEDs spread
+/// around the front of a headband and one on the crown, seen at f = 1350.
+LedModel headband_beacon() { return load_led_model(std::string(EARSHOT_SOURCE_DIR) + "/tracker/models/headband.json"); }
+
+/// A 60 mm tag's corners as a beacon (webcam tag path: the corners come
+/// labelled), visible to 75 deg off its normal.
+LedModel tag_beacon() {
+  LedModel m;
+  m.leds_mm = {Vec3(-30.0, -30.0, 0.0), Vec3(30.0, -30.0, 0.0), Vec3(30.0, 30.0, 0.0), Vec3(-30.0, 30.0, 0.0)};
+  m.half_angle = 75.0 * M_PI / 180.0;
+  return m;
+}
+
+/// The walk's frames (ground truth kept). `labelled`: slot k holds corner k.
+std::vector<DotFrame> make_walk(const Camera& cam, const LedModel& model, SimulatorConfig cfg, long frames,
+                                bool labelled = false) {
+  Simulator sim(cam, model, cfg);
+  std::vector<DotFrame> walk;
+  walk.reserve(static_cast<size_t>(frames));
+  for (long i = 0; i < frames; ++i) {
+    DotFrame f = sim.next();
+    if (labelled) {
+      DotFrame g;
+      g.t = f.t;
+      GroundTruth gt = *f.truth;
+      gt.slot_led = {0, 0, 0, 0};
+      for (size_t s = 0; s < kSlots; ++s)
+        if (f.truth->slot_led[s] > 0) {
+          const auto k = static_cast<size_t>(f.truth->slot_led[s] - 1);
+          g.slots[k] = f.slots[s];
+          gt.slot_led[k] = static_cast<int>(k) + 1;
+        }
+      g.truth = gt;
+      f = g;
+    }
+    walk.push_back(std::move(f));
+  }
+  return walk;
+}
+
+/// The trackers' configuration for --listener (its eskf parameters and knobs).
+TrackerConfig with_eskf(const Options& o) {
+  TrackerConfig c = o.base;
+  c.eskf = o.eskf;
+  return c;
+}
+
+/// --listener: the tables of listener_scores.hpp per motion class and beacon.
+void listener(const Options& o) {
+  const std::vector<Beacon> beacons = {{"thesis", LedModel::thesis(), 1280.0}, {"headband", headband_beacon(), 1350.0}};
+  bench::print_header();
+  auto want = [&](const char* c) { return o.classes.empty() || o.classes.find(c) != std::string::npos; };
+  if (want("real")) {
+    std::vector<std::string> files = o.traces;
+    if (files.empty() && !o.trace_dir.empty() && std::filesystem::is_directory(o.trace_dir))
+      for (const auto& e : std::filesystem::directory_iterator(o.trace_dir))
+        if (e.path().extension() == ".csv") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) std::printf("| (no traces: --trace FILE or --trace-dir DIR) |\n");
+    for (const Beacon& b : beacons) {
+      const Camera cam = Camera::with_focal(b.focal);
+      for (const auto& file : files) {
+        SimulatorConfig cfg;
+        cfg.trace = std::make_shared<const HeadTrace>(HeadTrace::load(file));
+        const long frames = static_cast<long>(cfg.trace->duration() * cfg.rate_hz);
+        const auto walk = make_walk(cam, b.model, cfg, frames);
+        bench::print_row(std::string("real ") + std::filesystem::path(file).stem().string() + ", " + b.name,
+                         bench::score_walk(cam, b.model, walk, false, with_eskf(o)));
+      }
+    }
+  }
+  struct Synth {
+    const char* cls;
+    MotionProfile motion;
+    const WalkVariant* variant;
+  };
+  for (const Synth& sy : {Synth{"seated", MotionProfile::seated, nullptr}, Synth{"fast", MotionProfile::walk, &kFastWalk},
+                          Synth{"sweep", MotionProfile::sweep, nullptr}}) {
+    if (!want(sy.cls)) continue;
+    for (const Beacon& b : beacons)
+      for (const auto pixels : {PixelModel::integer, PixelModel::quantize8}) {
+      const Camera cam = Camera::with_focal(b.focal);
+      const std::string name = std::string(sy.cls) + ", " + b.name + (pixels == PixelModel::integer ? "" : ", 8-px");
+      bench::WalkScores all;
+      for (const auto seed : o.seeds) {
+        SimulatorConfig cfg;
+        cfg.seed = seed;
+        cfg.motion = sy.motion;
+        cfg.pixels = pixels;
+        if (sy.variant) {
+          cfg.angular_speed_deg_s = sy.variant->ang_rms_deg_s;
+          cfg.roll_max_deg = sy.variant->roll_max_deg;
+          cfg.dropout_rate = sy.variant->dropout;
+          cfg.stray_rate = sy.variant->stray;
+        }
+        const auto walk = make_walk(cam, b.model, cfg, o.frames);
+        const bench::WalkScores s = bench::score_walk(cam, b.model, walk, false, with_eskf(o));
+        if (o.per_seed) bench::print_row(name + ", seed " + std::to_string(seed), s);
+        all.merge(s);
+      }
+      bench::print_row(name, all);
+    }
+  }
+  if (want("tag")) {
+    const Camera cam = Camera::with_focal(1280.0);
+    const LedModel tag = tag_beacon();
+    for (const auto motion : {MotionProfile::seated, MotionProfile::orienting}) {
+      bench::WalkScores all;
+      for (const auto seed : o.seeds) {
+        SimulatorConfig cfg;
+        cfg.seed = seed;
+        cfg.motion = motion;
+        cfg.pixels = PixelModel::gaussian;
+        cfg.noise_px = 0.3;
+        const auto walk = make_walk(cam, tag, cfg, o.frames, true);
+        const bench::WalkScores s = bench::score_walk(cam, tag, walk, true, with_eskf(o));
+        if (o.per_seed)
+          bench::print_row(std::string("tag 60 mm, ") + std::string(motion_profile_name(motion)) + ", seed " + std::to_string(seed), s);
+        all.merge(s);
+      }
+      bench::print_row(std::string("tag 60 mm, ") + std::string(motion_profile_name(motion)), all);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -721,6 +870,24 @@ int main(int argc, char** argv) {
       o.eskf_split = true;
     } else if (a == "--ambiguity") {
       o.ambiguity = true;
+    } else if (a == "--listener") {
+      o.listener = true;
+    } else if (a == "--class") {
+      o.classes = next();
+    } else if (a == "--trace") {
+      o.traces.emplace_back(next());
+    } else if (a == "--trace-dir") {
+      o.trace_dir = next();
+    } else if (a == "--guard-chi2") {
+      o.base.guard_chi2 = std::atof(next());
+    } else if (a == "--predict-reach-deg") {
+      o.base.predict_reach_rad = std::atof(next()) * M_PI / 180.0;
+    } else if (a == "--lag") {
+      o.lag_only = true;
+    } else if (a == "--reacquire3-window") {
+      o.base.reacquire3_window_s = std::atof(next());
+    } else if (a == "--per-seed") {
+      o.per_seed = true;
     } else if (a == "--variety") {
       o.variety = true;
     } else if (a == "--no-vet") {
@@ -728,7 +895,7 @@ int main(int argc, char** argv) {
     } else if (a == "--q-trans") {
       o.eskf.linear_accel_psd = std::atof(next());
     } else {
-      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]] [--ambiguity [--flip-log]]\n");
+      std::fprintf(stderr, "usage: tracker_motion [--frames N] [--seeds tuning|heldout|N,N,...] [--profile NAME|fast] [--q-rot Q] [--q-trans Q] [--pixel-var V] [--chi2 M O] [--excess] [--eskf-split] [--no-vet] [--misses [--flip-log] [--variety]] [--ambiguity [--flip-log]] [--listener [--class real,seated,fast,sweep,tag] [--trace FILE]... [--trace-dir DIR] [--per-seed]]\n");
       return 2;
     }
   }
@@ -741,6 +908,14 @@ int main(int argc, char** argv) {
   std::printf("; eskf q = %g rad^2/s^3, %g mm^2/s^3\n", o.eskf.angular_accel_psd, o.eskf.linear_accel_psd);
   if (o.ambiguity) {
     ambiguity(o);
+    return 0;
+  }
+  if (o.listener) {
+    listener(o);
+    return 0;
+  }
+  if (o.lag_only) {
+    lag_table();
     return 0;
   }
   if (o.misses) {

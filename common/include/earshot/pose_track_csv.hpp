@@ -27,15 +27,17 @@ namespace earshot {
 
 /// Writes published head poses as a Pose track. The reader wants strictly
 /// increasing times, so a pose whose time does not advance is skipped; a
-/// non-finite one is never written.
+/// non-finite one is never written. `with_state` adds the optional `state`
+/// column (each pose's state), as a recording writes it.
 class PoseTrackCsvWriter {
  public:
-  explicit PoseTrackCsvWriter(std::ostream& out);
+  explicit PoseTrackCsvWriter(std::ostream& out, bool with_state = false);
   /// False when the row was skipped (time not after the last row, or not finite).
   bool write(const HeadPose& p);
 
  private:
   std::ostream& out_;
+  bool with_state_ = false;
   double last_t_ = 0.0;
   bool any_ = false;
 };

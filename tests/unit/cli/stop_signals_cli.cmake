@@ -1,8 +1,9 @@
 # SIGINT, SIGTERM and SIGHUP (Ctrl-C; `kill`, `timeout` and systemd; a closed
 # terminal) end a recording or a render the same clean way:
 #  - `track live --record`: exit 0, every row of the Pose track complete (eight
-#    numbers, the file ends with a newline), as many rows as the tool says it
-#    recorded, and `render --pose-track` (the project's reader) accepts it;
+#    numbers and the state, the file ends with a newline), as many rows as the
+#    tool says it recorded, and `render --pose-track` (the project's reader)
+#    accepts it;
 #  - `track record`: exit 0 and a Dots CSV that replays;
 #  - `render`: exit 1 saying so, and a WAV whose header is final (RIFF and data
 #    sizes match the file) holding as many frames as the tool says.
@@ -19,10 +20,10 @@ foreach(sig INT TERM HUP)
   execute_process(COMMAND ${CMAKE_CURRENT_LIST_DIR}/signal_when_growing.sh ${sig} ${csv} 3000
                           ${EARSHOT} track live --source sim --record ${csv}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 60)
-  if(NOT rc EQUAL 0 OR NOT err MATCHES "stopped by SIG${sig}" OR NOT err MATCHES "recorded ([0-9]+) poses to")
+  if(NOT rc EQUAL 0 OR NOT err MATCHES "stopped by SIG${sig}" OR NOT err MATCHES "recorded ([0-9]+) frames to")
     message(FATAL_ERROR "track live --record on SIG${sig}: status ${rc} (0 wanted): ${err}")
   endif()
-  string(REGEX MATCH "recorded ([0-9]+) poses" said "${err}")
+  string(REGEX MATCH "recorded ([0-9]+) frames" said "${err}")
   set(said ${CMAKE_MATCH_1})
   file(READ ${csv} text)
   if(NOT text MATCHES "\n$")
@@ -31,11 +32,11 @@ foreach(sig INT TERM HUP)
   file(STRINGS ${csv} lines)
   list(POP_FRONT lines header)
   list(LENGTH lines rows)
-  if(NOT header STREQUAL "t_s,x_m,y_m,z_m,qw,qx,qy,qz" OR NOT rows EQUAL said OR rows LESS 10)
+  if(NOT header STREQUAL "t_s,x_m,y_m,z_m,qw,qx,qy,qz,state" OR NOT rows EQUAL said OR rows LESS 10)
     message(FATAL_ERROR "${csv} (SIG${sig}): header '${header}', ${rows} rows; the tool said ${said}")
   endif()
   foreach(row IN LISTS lines)
-    if(NOT row MATCHES "^${number},${number},${number},${number},${number},${number},${number},${number}$")
+    if(NOT row MATCHES "^${number},${number},${number},${number},${number},${number},${number},${number},(searching|tracking|predicted|lost)$")
       message(FATAL_ERROR "${csv} (SIG${sig}): incomplete row '${row}'")
     endif()
   endforeach()

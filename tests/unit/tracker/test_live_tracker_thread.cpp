@@ -203,3 +203,30 @@ TEST(LiveTrackerThread, SendsThePosesItPublishesAtMostAtItsRate) {
     EXPECT_LT(at, published.size()) << "a received pose that was never published";
   }
 }
+
+// Recordings: one row per camera frame, from the first (time 0, not a note's
+// row), each with the state the pipeline gave it, and the beacon's camera-
+// frame pose whenever the tracker has one.
+TEST(LiveTrackerThread, GivesEveryFrameToTheRecordingFromTheFirst) {
+  PoseSlot slot;
+  std::vector<LiveTracker::FrameRow> rows;  // written by the tracker thread, read after it is joined
+  {
+    LiveTracker t(sim(300), slot, LiveConfig{}, {}, [&rows](const LiveTracker::FrameRow& r) { rows.push_back(r); });
+    while (t.running()) std::this_thread::yield();
+  }
+  ASSERT_EQ(rows.size(), 300u);  // garbage frames too: lost rows
+  EXPECT_EQ(rows.front().listener.t, 0.0);
+  long lost = 0, with_camera = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GT(rows[i].listener.t, rows[i - 1].listener.t);
+    }
+    lost += rows[i].listener.state == earshot::PoseState::lost;
+    with_camera += rows[i].camera.has_value();
+    if (rows[i].camera) {
+      EXPECT_GT(rows[i].camera->t.z(), 100.0);  // absolute, mm from the camera
+    }
+  }
+  EXPECT_GT(lost, 0);  // the 40 frames the beacon vanished
+  EXPECT_EQ(with_camera, static_cast<long>(rows.size()));
+}

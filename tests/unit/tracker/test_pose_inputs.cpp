@@ -257,3 +257,25 @@ TEST(PoseTrackCsv, BadInputNamesFileLineAndField) {
   EXPECT_EQ(error_of(h + "0,0,0,0,0.5,0,0,0\n"), "track.csv:2: field 'qw': quaternion is not unit length");
   EXPECT_EQ(error_of(h + "1,0,0,0,1,0,0,0\n1,0,0,0,1,0,0,0\n"), "track.csv:3: field 't_s': times must increase");
 }
+
+TEST(PoseTrackCsv, ARecordingCarriesEachRowsStateAndReadsBack) {
+  std::stringstream io;
+  PoseTrackCsvWriter w(io, true);
+  earshot::HeadPose p;
+  p.t = 0.0;  // the first frame: time zero is a row too
+  p.state = earshot::PoseState::searching;
+  ASSERT_TRUE(w.write(p));
+  p.t = 0.01;
+  p.state = earshot::PoseState::tracking;
+  ASSERT_TRUE(w.write(p));
+  p.t = 0.02;
+  p.state = earshot::PoseState::lost;
+  ASSERT_TRUE(w.write(p));
+  EXPECT_EQ(io.str().substr(0, io.str().find('\n')), "t_s,x_m,y_m,z_m,qw,qx,qy,qz,state");
+  const auto rows = read_pose_track_csv(io, "mem");
+  ASSERT_EQ(rows.size(), 3u);
+  EXPECT_EQ(rows[0].t, 0.0);
+  EXPECT_EQ(rows[0].state, earshot::PoseState::searching);
+  EXPECT_EQ(rows[1].state, earshot::PoseState::tracking);
+  EXPECT_EQ(rows[2].state, earshot::PoseState::lost);
+}

@@ -192,6 +192,19 @@ void PoseEskf::start(const Pose& z, const Mat6& cov, double t) {
   step_.restart = true;
 }
 
+/// What one update carries from step to step: the innovation's covariance
+/// (and its factor), the NIS, and the process noise that explained it.
+struct PoseEskf::Innovation {
+  Mat6 S;
+  Cholesky<6> L;
+  bool factored = false;
+  double nis = 0.0, scale = 1.0, q_rot = 0.0, q_trans = 0.0;
+  /// The measurement as fused: H P and its innovation y (z itself: the pose
+  /// rows of P_pred and nu; the differenced measurement otherwise).
+  Eigen::Matrix<double, 6, 12> HP;
+  Eigen::Matrix<double, 6, 1> y;
+};
+
 Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   const double dt = t - t_;
   if (!have_ || !(dt > 0.0) || dt > p_.max_gap_s || !cov.allFinite()) {
@@ -207,39 +220,9 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   nu.head<3>() = log_so3(z.R * x_pred.R.transpose());
   nu.tail<3>() = z.t - x_pred.t;
 
-  // The smallest process-noise scale that explains the measurement: the
-  // adaptive q first, then 10, 100, 1000 times the literature's (never less
-  // than the adaptive one). Only the pose block of P_pred enters S: the
-  // process noise there is diagonal, q dt^3 / 3 per axis.
-  const double dt3 = dt * dt * dt / 3.0;
-  bool persistent = false;
-  Mat6 S;
-  Cholesky<6> L;
-  double nis = 0.0, scale = 1.0, q_rot = qa, q_trans = ql;
-  bool factored = false;
-  for (scale = 1.0; scale <= kMaxScale; scale *= kManoeuvreStep) {
-    q_rot = std::max(qa, scale * p_.angular_accel_psd);
-    q_trans = std::max(ql, scale * p_.linear_accel_psd);
-    if (scale > 1.0 && q_rot == qa && q_trans == ql) continue;  // no larger than the adaptive q: tried
-    S = FPF.topLeftCorner<6, 6>() + cov;
-    S.diagonal().head<3>().array() += q_rot * dt3;
-    S.diagonal().tail<3>().array() += q_trans * dt3;
-    factored = cholesky<6>(S, L);
-    nis = factored ? mahalanobis2<6>(L, nu) : nu.dot(S.ldlt().solve(nu));
-    if (scale == 1.0) {  // the blocks' evidence for the adaptive scales, at the q the model claims
-      const BlockEvidence rot = block_evidence(S.topLeftCorner<3, 3>(), nu.head<3>());
-      const BlockEvidence trans = block_evidence(S.bottomRightCorner<3, 3>(), nu.tail<3>());
-      nis_rot_ = rot.nis;
-      nis_trans_ = trans.nis;
-      u_rot_ = rot.whitened;
-      u_trans_ = trans.whitened;
-      persistent = p_.persistence_test && rotation_persists();
-    }
-    if (nis <= p_.manoeuvre_chi2 && !(scale == 1.0 && persistent)) break;
-  }
-  scale = std::min(scale, kMaxScale);
+  Innovation in = explain(FPF, cov, nu, dt, qa, ql);
   Mat12 P_pred = FPF;
-  add_process_noise(P_pred, q_rot, q_trans, dt);
+  add_process_noise(P_pred, in.q_rot, in.q_trans, dt);
   // The correlated model leans on the motion model for longer; that is only
   // right while the motion model is as good as it claims: the NIS averaged
   // over the last second no more than its expectation, the dimension 6 (a
@@ -247,7 +230,74 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // Applications to Tracking and Navigation", 2001). Seated heads keep it at
   // 4-5 on 8-px pixels; the default walk at 9-11 and walking, whose 2 Hz bob
   // is beyond the constant-velocity model's q, at 17-29.
-  nis_avg_ += std::min(1.0, dt / kNisAverageS) * (std::min(nis, p_.manoeuvre_chi2) - nis_avg_);
+  nis_avg_ += std::min(1.0, dt / kNisAverageS) * (std::min(in.nis, p_.manoeuvre_chi2) - nis_avg_);
+  quant_rho_ = predicted_quantisation_correlation(cov, dt);
+  const bool quiet = lambda_rot_ <= kQuietScale && lambda_trans_ <= kQuietScale;
+  const double rho = p_.correlated_quantisation && nis_avg_ <= kConsistentNis && quiet ? quant_rho_ : 0.0;
+  in.HP = P_pred.topRows<6>();
+  in.y = nu;
+  const bool differenced = rho > 0.0 && fuse_correlated(in, P_pred, cov, x_pred, nu, rho, dt);
+  rho_ = rho;
+  differenced_ = differenced;
+  nis_ = in.nis;
+  q_scale_ = in.scale;
+  step_.t = t;
+  step_.pose_pred = x_pred;
+  step_.w_pred = w_;
+  step_.v_pred = v_;
+  step_.P_pred = P_pred;
+  step_.rotation = A;
+  step_.dt = dt;
+  step_.q_rot = in.q_rot;
+  step_.q_trans = in.q_trans;
+  step_.restart = false;
+
+  if (!(in.nis <= p_.outlier_chi2)) return skip(z, cov, t, x_pred, FPF, qa, ql, dt);
+  rejected_ = false;
+  rejected_run_ = 0;
+  z_prev_ = z;
+  have_z_prev_ = true;
+  adapt(dt);
+  correct(in, P_pred, x_pred, t);
+  return x_;
+}
+
+PoseEskf::Innovation PoseEskf::explain(const Mat12& FPF, const Mat6& cov, const Eigen::Matrix<double, 6, 1>& nu,
+                                       double dt, double qa, double ql) {
+  // The smallest process-noise scale that explains the measurement: the
+  // adaptive q first, then 10, 100, 1000 times the literature's (never less
+  // than the adaptive one). Only the pose block of P_pred enters S: the
+  // process noise there is diagonal, q dt^3 / 3 per axis.
+  const double dt3 = dt * dt * dt / 3.0;
+  bool persistent = false;
+  Innovation in;
+  in.q_rot = qa;
+  in.q_trans = ql;
+  for (in.scale = 1.0; in.scale <= kMaxScale; in.scale *= kManoeuvreStep) {
+    in.q_rot = std::max(qa, in.scale * p_.angular_accel_psd);
+    in.q_trans = std::max(ql, in.scale * p_.linear_accel_psd);
+    if (in.scale > 1.0 && in.q_rot == qa && in.q_trans == ql) continue;  // no larger than the adaptive q: tried
+    in.S = FPF.topLeftCorner<6, 6>() + cov;
+    in.S.diagonal().head<3>().array() += in.q_rot * dt3;
+    in.S.diagonal().tail<3>().array() += in.q_trans * dt3;
+    in.factored = cholesky<6>(in.S, in.L);
+    in.nis = in.factored ? mahalanobis2<6>(in.L, nu) : nu.dot(in.S.ldlt().solve(nu));
+    if (in.scale == 1.0) {  // the blocks' evidence for the adaptive scales, at the q the model claims
+      const BlockEvidence rot = block_evidence(in.S.topLeftCorner<3, 3>(), nu.head<3>());
+      const BlockEvidence trans = block_evidence(in.S.bottomRightCorner<3, 3>(), nu.tail<3>());
+      nis_rot_ = rot.nis;
+      nis_trans_ = trans.nis;
+      u_rot_ = rot.whitened;
+      u_trans_ = trans.whitened;
+      persistent = p_.persistence_test && rotation_persists();
+    }
+    if (in.nis <= p_.manoeuvre_chi2 && !(in.scale == 1.0 && persistent)) break;
+  }
+  in.scale = std::min(in.scale, kMaxScale);
+  return in;
+}
+
+double PoseEskf::predicted_quantisation_correlation(const Mat6& cov, double dt) const {
   // The dots' predicted speed in quantisation cells (eskf.hpp): with
   // cov = sigma^2 (J^T J)^-1 and sigma^2 = Delta^2 / 12, the pose step
   // d = (w dt, v dt) moves the dots by u = J d, |u|^2 / Delta^2 =
@@ -256,102 +306,79 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   // d^T cov^-1 d: a filter unsure of the speed does not take the dots for still.
   // The correlation is predicted whether or not the correlated model may
   // use it: the adaptive scales compare the innovations' own with it.
-  quant_rho_ = 0.0;
-  if (p_.correlated_quantisation || p_.adaptive_process_noise) {
-    Cholesky<6> Lc;
-    if (cholesky<6>(cov, Lc)) {
-      Eigen::Matrix<double, 6, 1> d;
-      d.head<3>() = w_ * dt;
-      d.tail<3>() = v_ * dt;
-      const double m2 = mahalanobis2<6>(Lc, d) +
-                        dt * dt * detail::inverse<6>(Lc).cwiseProduct(P_.bottomRightCorner<6, 6>()).sum();
-      quant_rho_ = quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
+  if (!p_.correlated_quantisation && !p_.adaptive_process_noise) return 0.0;
+  Cholesky<6> Lc;
+  if (!cholesky<6>(cov, Lc)) return 0.0;
+  Eigen::Matrix<double, 6, 1> d;
+  d.head<3>() = w_ * dt;
+  d.tail<3>() = v_ * dt;
+  const double m2 =
+      mahalanobis2<6>(Lc, d) + dt * dt * detail::inverse<6>(Lc).cwiseProduct(P_.bottomRightCorner<6, 6>()).sum();
+  return quantisation_correlation(std::sqrt(m2 / (12.0 * kCoordinates)));
+}
+
+bool PoseEskf::fuse_correlated(Innovation& in, const Mat12& P_pred, const Mat6& cov, const Pose& x_pred,
+                               const Eigen::Matrix<double, 6, 1>& nu, double rho, double dt) const {
+  if (have_z_prev_ && in.scale == 1.0) {
+    // z_(k-1) in the error coordinates at x_pred: x_(k-1) = x_k - (w, v) dt
+    // to first order, so z_(k-1) [-] x_pred + (w, v) dt = dx_pose - dt dx_vel + e_(k-1).
+    Eigen::Matrix<double, 6, 1> zeta;
+    zeta.head<3>() = log_so3(z_prev_.R * x_pred.R.transpose()) + w_ * dt;
+    zeta.tail<3>() = z_prev_.t - x_pred.t + v_ * dt;
+    const Eigen::Matrix<double, 6, 1> yd = nu - rho * zeta;
+    const Eigen::Matrix<double, 6, 12> HPd = (1.0 - rho) * P_pred.topRows<6>() + (rho * dt) * P_pred.bottomRows<6>();
+    const Mat6 HPHd = (1.0 - rho) * HPd.leftCols<6>() + (rho * dt) * HPd.rightCols<6>();
+    const Mat6 Sd = Mat6(0.5 * (HPHd + HPHd.transpose())) + (1.0 - rho * rho) * cov;
+    Cholesky<6> Ld;
+    Ld.L.setZero();  // its upper triangle is never written, and the factor is copied whole
+    if (cholesky<6>(Sd, Ld) && mahalanobis2<6>(Ld, yd) <= kDifferencedNis) {
+      in.S = Sd;
+      in.L = Ld;
+      in.factored = true;
+      in.HP = HPd;
+      in.y = yd;
+      return true;
     }
   }
-  const bool quiet = lambda_rot_ <= kQuietScale && lambda_trans_ <= kQuietScale;
-  const double rho = p_.correlated_quantisation && nis_avg_ <= kConsistentNis && quiet ? quant_rho_ : 0.0;
+  // z itself, worth 1 / kappa of a white measurement: S's cov becomes kappa cov
+  in.S += ((1.0 + rho) / (1.0 - rho) - 1.0) * cov;
+  in.factored = cholesky<6>(in.S, in.L);
+  return false;
+}
 
-  // The measurement as fused (eskf.hpp): H P and its innovation y, with
-  // S = H P H^T + R. For z itself H = [I 0]: the pose rows of P, and nu.
-  Eigen::Matrix<double, 6, 12> HP = P_pred.topRows<6>();
-  Eigen::Matrix<double, 6, 1> y = nu;
-  bool differenced = false;
-  if (rho > 0.0) {
-    if (have_z_prev_ && scale == 1.0) {
-      // z_(k-1) in the error coordinates at x_pred: x_(k-1) = x_k - (w, v) dt
-      // to first order, so z_(k-1) [-] x_pred + (w, v) dt = dx_pose - dt dx_vel + e_(k-1).
-      Eigen::Matrix<double, 6, 1> zeta;
-      zeta.head<3>() = log_so3(z_prev_.R * x_pred.R.transpose()) + w_ * dt;
-      zeta.tail<3>() = z_prev_.t - x_pred.t + v_ * dt;
-      const Eigen::Matrix<double, 6, 1> yd = nu - rho * zeta;
-      const Eigen::Matrix<double, 6, 12> HPd = (1.0 - rho) * P_pred.topRows<6>() + (rho * dt) * P_pred.bottomRows<6>();
-      const Mat6 HPHd = (1.0 - rho) * HPd.leftCols<6>() + (rho * dt) * HPd.rightCols<6>();
-      const Mat6 Sd = Mat6(0.5 * (HPHd + HPHd.transpose())) + (1.0 - rho * rho) * cov;
-      Cholesky<6> Ld;
-      if (cholesky<6>(Sd, Ld) && mahalanobis2<6>(Ld, yd) <= kDifferencedNis) {
-        S = Sd;
-        L = Ld;
-        factored = true;
-        HP = HPd;
-        y = yd;
-        differenced = true;
-      }
-    }
-    if (!differenced) {  // z itself, worth 1 / kappa of a white measurement: S's cov becomes kappa cov
-      S += ((1.0 + rho) / (1.0 - rho) - 1.0) * cov;
-      factored = cholesky<6>(S, L);
-    }
-  }
-  rho_ = rho;
-  differenced_ = differenced;
-  nis_ = nis;
-  q_scale_ = scale;
-  step_.t = t;
-  step_.pose_pred = x_pred;
-  step_.w_pred = w_;
-  step_.v_pred = v_;
-  step_.P_pred = P_pred;
-  step_.rotation = A;
-  step_.dt = dt;
-  step_.q_rot = q_rot;
-  step_.q_trans = q_trans;
-  step_.restart = false;
-
-  if (!(nis <= p_.outlier_chi2)) {  // no head motion explains it: skip the measurement
-    rejected_ = true;
-    have_z_prev_ = false;  // the next measurement has no neighbour to be differenced with
-    have_u_prev_ = false;  // nor innovation to be correlated with
-    if (++rejected_run_ >= 3) {
-      start(z, cov, t);
-      return x_;
-    }
-    x_ = x_pred;
-    P_ = FPF;  // the model's own uncertainty, not the inflated one tried
-    add_process_noise(P_, qa, ql, dt);
-    step_.P_pred = P_;
-    step_.q_rot = qa;
-    step_.q_trans = ql;
-    t_ = t;
-    step_.pose_upd = x_;
-    step_.w_upd = w_;
-    step_.v_upd = v_;
-    step_.P_upd = P_;
+Pose PoseEskf::skip(const Pose& z, const Mat6& cov, double t, const Pose& x_pred, const Mat12& FPF, double qa,
+                    double ql, double dt) {
+  // No head motion explains it: skip the measurement.
+  rejected_ = true;
+  have_z_prev_ = false;  // the next measurement has no neighbour to be differenced with
+  have_u_prev_ = false;  // nor innovation to be correlated with
+  if (++rejected_run_ >= 3) {
+    start(z, cov, t);
     return x_;
   }
-  rejected_ = false;
-  rejected_run_ = 0;
-  z_prev_ = z;
-  have_z_prev_ = true;
-  adapt(dt);
+  x_ = x_pred;
+  P_ = FPF;  // the model's own uncertainty, not the inflated one tried
+  add_process_noise(P_, qa, ql, dt);
+  step_.P_pred = P_;
+  step_.q_rot = qa;
+  step_.q_trans = ql;
+  t_ = t;
+  step_.pose_upd = x_;
+  step_.w_upd = w_;
+  step_.v_upd = v_;
+  step_.P_upd = P_;
+  return x_;
+}
 
+void PoseEskf::correct(const Innovation& in, Mat12& P_pred, const Pose& x_pred, double t) {
   // With S = L L^T: K = P H^T S^-1 = B^T L^-1 for B = L^-1 (H P) (6 x 12);
   // the correction K y = B^T (L^-1 y) and P = P_pred - K H P_pred =
   // P_pred - B^T B, symmetric by construction.
   Vec12 dx;
-  if (factored) {
+  if (in.factored) {
     Eigen::Matrix<double, 6, 12> B;
-    for (int c = 0; c < 12; ++c) B.col(c) = forward_solve<6>(L, Eigen::Matrix<double, 6, 1>(HP.col(c)));
-    const Eigen::Matrix<double, 6, 1> Ly = forward_solve<6>(L, y);
+    for (int c = 0; c < 12; ++c) B.col(c) = forward_solve<6>(in.L, Eigen::Matrix<double, 6, 1>(in.HP.col(c)));
+    const Eigen::Matrix<double, 6, 1> Ly = forward_solve<6>(in.L, in.y);
     dx.noalias() = B.transpose() * Ly;
     for (int j = 0; j < 12; ++j)
       for (int i = j; i < 12; ++i) P_pred(i, j) -= B.col(i).dot(B.col(j));
@@ -359,10 +386,10 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
       for (int i = 0; i < j; ++i) P_pred(i, j) = P_pred(j, i);
     P_ = P_pred;
   } else {  // S only semi-definite: its LDLT inverse
-    const Mat6 S_inv = sym_inverse<6>(S);
-    const Eigen::Matrix<double, 12, 6> PHt = HP.transpose();
+    const Mat6 S_inv = sym_inverse<6>(in.S);
+    const Eigen::Matrix<double, 12, 6> PHt = in.HP.transpose();
     const Eigen::Matrix<double, 12, 6> K = PHt.lazyProduct(S_inv);
-    dx.noalias() = K * y;
+    dx.noalias() = K * in.y;
     P_ = P_pred - K.lazyProduct(PHt.transpose());
     P_ = Mat12(0.5 * (P_ + P_.transpose()));  // a temporary: no aliasing through the transpose
   }
@@ -374,7 +401,34 @@ Pose PoseEskf::update(const Pose& z, const Mat6& cov, double t) {
   step_.w_upd = w_;
   step_.v_upd = v_;
   step_.P_upd = P_;
-  return x_;
+}
+
+void PoseEskf::hand_through(const Pose& z, const Mat6& cov) {
+  if (!have_ || !cov.allFinite()) return;
+  x_ = z;
+  const Mat6 vel = P_.bottomRightCorner<6, 6>();
+  P_.setZero();
+  P_.topLeftCorner<6, 6>() = cov;
+  P_.bottomRightCorner<6, 6>() = vel;
+  // As at a start: the velocity's spread at least the spread of head speeds.
+  for (int i = 0; i < 3; ++i) {
+    P_(6 + i, 6 + i) = std::max(P_(6 + i, 6 + i), std::pow(200.0 * M_PI / 180.0, 2));
+    P_(9 + i, 9 + i) = std::max(P_(9 + i, 9 + i), 500.0 * 500.0);
+  }
+  have_z_prev_ = false;  // the next measurement is not differenced against this one
+  have_u_prev_ = false;
+  m_rot_.setZero();
+  step_.pose_upd = x_;
+  step_.P_upd = P_;
+}
+
+Pose guard(PoseEskf& eskf, const Pose& filtered, const Pose& z, const Mat6& cov, double chi2) {
+  Eigen::Matrix<double, 6, 1> d;
+  d.head<3>() = log_so3(filtered.R * z.R.transpose());
+  d.tail<3>() = filtered.t - z.t;
+  if (eskf.last_rejected() || d.dot(cov.ldlt().solve(d)) <= chi2) return filtered;
+  eskf.hand_through(z, cov);
+  return z;
 }
 
 std::optional<Pose> PoseEskf::predict(double t) const {

@@ -5,7 +5,7 @@
 #include <exception>
 
 namespace earshot::tracker {
-namespace {
+namespace detail {  // named, not anonymous: LiveTracker::Loop holds one
 
 using Clock = std::chrono::steady_clock;
 
@@ -37,17 +37,23 @@ class RateMeter {
   std::size_t head_ = 0, count_ = 0;
 };
 
+}  // namespace detail
+
+namespace {
+
+using detail::RateMeter;
 constexpr auto kStaleDots = std::chrono::milliseconds(300);
 
 }  // namespace
 
 LiveTracker::LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg,
-                         PoseCallback on_pose)
+                         PoseCallback on_pose, FrameCallback on_frame)
     : source_(std::move(source)),
       slot_(slot),
       keep_running_after_end_(cfg.keep_running_after_end),
       pipeline_(with_source_model(cfg, *source_)),
       on_pose_(std::move(on_pose)),
+      on_frame_(std::move(on_frame)),
       senders_(cfg.send) {
   status_.source = source_->describe();
   thread_ = std::jthread([this](std::stop_token st) { run(st); });
@@ -67,109 +73,130 @@ LiveTracker::Status LiveTracker::status() const {
   return status_;
 }
 
-void LiveTracker::run(std::stop_token stop) {
+/// The tracker thread's own bookkeeping between events.
+struct LiveTracker::Loop {
   // Notes carry no time: estimate it on the source clock from the last event.
   double last_t = 0.0;
-  auto last_wall = Clock::now();
+  Clock::time_point last_wall = Clock::now();
   std::string note, error;
   Link link = Link::unknown;
   bool camera = false;
   RateMeter rate;
   std::array<std::optional<Dot>, kSlots> dots;
   Clock::time_point last_frame_wall{};
+};
 
-  const auto process = [&](const SourceEvent& e) {
-    if (const auto pose = pipeline_.process(e, last_t); pose && slot_.publish(*pose)) {
-      const HeadPose published = slot_.load();
-      senders_.offer(published, Clock::now());
-      if (on_pose_) on_pose_(published);
-    }
-  };
-  const auto update_status = [&](Clock::time_point wall) {
-    if (wall - last_frame_wall > kStaleDots) dots = {};
-    std::lock_guard lock(status_mutex_);
-    status_.state = pipeline_.state();
-    status_.frames = pipeline_.counters().frames;
-    status_.published = pipeline_.counters().poses;
-    status_.rejected_dots = pipeline_.counters().rejected_dots;
-    status_.dropped = source_->dropped();
-    status_.note = note;
-    status_.link = link;
-    status_.camera = camera;
-    status_.rate_hz = rate.per_second(wall);
-    status_.dots = dots;
-  };
+void LiveTracker::process(const SourceEvent& e, double now) {
+  const auto pose = pipeline_.process(e, now);
+  if (!pose) return;
+  if (slot_.publish(*pose)) {
+    const HeadPose published = slot_.load();
+    senders_.offer(published, Clock::now());
+    if (on_pose_) on_pose_(published);
+  }
+  if (!on_frame_ || std::holds_alternative<SourceNote>(e)) return;
+  FrameRow row{*pose, std::nullopt};
+  const TrackResult& tr = pipeline_.last_track();
+  if (const auto* f = std::get_if<CameraFrame>(&e); f && tr.t == f->dots.t && tr.has_pose) row.camera = tr.pose;
+  on_frame_(row);
+}
 
+void LiveTracker::update_status(Loop& l, Clock::time_point wall) {
+  if (wall - l.last_frame_wall > kStaleDots) l.dots = {};
+  std::lock_guard lock(status_mutex_);
+  status_.state = pipeline_.state();
+  status_.frames = pipeline_.counters().frames;
+  status_.published = pipeline_.counters().poses;
+  status_.rejected_dots = pipeline_.counters().rejected_dots;
+  status_.dropped = source_->dropped();
+  status_.note = l.note;
+  status_.link = l.link;
+  status_.camera = l.camera;
+  status_.rate_hz = l.rate.per_second(wall);
+  status_.dots = l.dots;
+}
+
+bool LiveTracker::handle(Loop& l, const SourceEvent& e) {
+  const auto wall = Clock::now();
+  if (recenter_.exchange(false, std::memory_order_relaxed)) pipeline_.request_recenter();
+  double now = l.last_t + std::chrono::duration<double>(wall - l.last_wall).count();
+  bool ended = false;
+  const auto* frame = std::get_if<CameraFrame>(&e);
+  if (frame) now = frame->dots.t;
+  if (const auto* p = std::get_if<HeadPose>(&e)) {
+    now = p->t;
+    l.rate.add(wall);
+  }
+  if (const auto* n = std::get_if<SourceNote>(&e)) {
+    if (n->kind != SourceNote::Kind::timeout) l.note = n->message;
+    if (n->t) now = *n->t;
+    ended = n->kind == SourceNote::Kind::ended;
+    note_link(l, *n);
+  }
+  if (std::isfinite(now) && now >= l.last_t) {
+    l.last_t = now;
+    l.last_wall = wall;
+  }
+  process(e, l.last_t);
+  if (frame) show_dots(l, *frame, wall);
+  update_status(l, wall);
+  return !ended;
+}
+
+void LiveTracker::note_link(Loop& l, const SourceNote& n) {
+  if (n.kind == SourceNote::Kind::connected) {
+    l.link = Link::connected;
+    if (const auto cam = source_->camera()) pipeline_.use_camera(*cam, source_->model());
+  }
+  if (n.kind == SourceNote::Kind::searching) l.link = Link::searching;
+  if (n.kind == SourceNote::Kind::disconnected) l.link = Link::disconnected;
+  if (n.kind == SourceNote::Kind::disconnected || n.kind == SourceNote::Kind::searching ||
+      n.kind == SourceNote::Kind::ended)
+    l.dots = {};
+}
+
+void LiveTracker::show_dots(Loop& l, const CameraFrame& frame, Clock::time_point wall) {
+  l.camera = true;
+  l.rate.add(wall);
+  l.last_frame_wall = wall;
+  // The labels belong to this frame only if the pipeline tracked it.
+  const TrackResult& tr = pipeline_.last_track();
+  const bool labelled = tr.t == frame.dots.t;
+  for (std::size_t s = 0; s < kSlots; ++s) {
+    l.dots[s].reset();
+    if (!frame.dots.slots[s]) continue;
+    const Vec2& px = *frame.dots.slots[s];
+    l.dots[s] = Dot{px.x(), px.y(), frame.dot_size[s], labelled ? tr.slot_led[s] : -1};
+  }
+}
+
+void LiveTracker::run(std::stop_token stop) {
+  Loop l;
   try {
-    while (!stop.stop_requested()) {
-      const SourceEvent e = source_->next(std::chrono::milliseconds(20));
-      const auto wall = Clock::now();
-      if (recenter_.exchange(false, std::memory_order_relaxed)) pipeline_.request_recenter();
-      double now = last_t + std::chrono::duration<double>(wall - last_wall).count();
-      bool ended = false;
-      const auto* frame = std::get_if<CameraFrame>(&e);
-      if (frame) now = frame->dots.t;
-      if (const auto* p = std::get_if<HeadPose>(&e)) {
-        now = p->t;
-        rate.add(wall);
-      }
-      if (const auto* n = std::get_if<SourceNote>(&e)) {
-        if (n->kind != SourceNote::Kind::timeout) note = n->message;
-        if (n->t) now = *n->t;
-        ended = n->kind == SourceNote::Kind::ended;
-        if (n->kind == SourceNote::Kind::connected) {
-          link = Link::connected;
-          if (const auto cam = source_->camera()) pipeline_.use_camera(*cam, source_->model());
-        }
-        if (n->kind == SourceNote::Kind::searching) link = Link::searching;
-        if (n->kind == SourceNote::Kind::disconnected) link = Link::disconnected;
-        if (n->kind == SourceNote::Kind::disconnected || n->kind == SourceNote::Kind::searching || ended)
-          dots = {};
-      }
-      if (std::isfinite(now) && now >= last_t) {
-        last_t = now;
-        last_wall = wall;
-      }
-      process(e);
-      if (frame) {
-        camera = true;
-        rate.add(wall);
-        last_frame_wall = wall;
-        // The labels belong to this frame only if the pipeline tracked it.
-        const TrackResult& tr = pipeline_.last_track();
-        const bool labelled = tr.t == frame->dots.t;
-        for (std::size_t s = 0; s < kSlots; ++s) {
-          dots[s].reset();
-          if (!frame->dots.slots[s]) continue;
-          const Vec2& px = *frame->dots.slots[s];
-          dots[s] = Dot{px.x(), px.y(), frame->dot_size[s], labelled ? tr.slot_led[s] : -1};
-        }
-      }
-      update_status(wall);
-      if (ended) break;
-    }
+    while (!stop.stop_requested())
+      if (!handle(l, source_->next(std::chrono::milliseconds(20)))) break;
   } catch (const std::exception& ex) {
-    error = ex.what();
+    l.error = ex.what();
   }
   {
     std::lock_guard lock(status_mutex_);
     status_.ended = true;
-    status_.error = error;
+    status_.error = l.error;
     status_.dots = {};
   }
   // Playing on: the pose the source left holds, then eases to neutral.
   while (keep_running_after_end_ && !stop.stop_requested()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
     const auto wall = Clock::now();
-    last_t += std::chrono::duration<double>(wall - last_wall).count();
-    last_wall = wall;
+    l.last_t += std::chrono::duration<double>(wall - l.last_wall).count();
+    l.last_wall = wall;
     try {
-      process(make_note(SourceNote::Kind::timeout));
+      process(make_note(SourceNote::Kind::timeout), l.last_t);
     } catch (const std::exception&) {
       break;  // the pipeline never throws on a note; nothing more to publish if it did
     }
-    dots = {};
-    update_status(wall);
+    l.dots = {};
+    update_status(l, wall);
   }
   std::lock_guard lock(status_mutex_);
   status_.running = false;

@@ -19,7 +19,8 @@ std::optional<PixelModel> pixel_model_from(std::string_view name) {
 
 std::optional<MotionProfile> motion_profile_from(std::string_view name) {
   for (auto m : {MotionProfile::walk, MotionProfile::seated, MotionProfile::orienting, MotionProfile::nodding,
-                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed, MotionProfile::listener})
+                 MotionProfile::walking, MotionProfile::tremor, MotionProfile::mixed, MotionProfile::listener,
+                 MotionProfile::sweep})
     if (name == motion_profile_name(m)) return m;
   return std::nullopt;
 }
@@ -34,6 +35,7 @@ std::string_view motion_profile_name(MotionProfile m) {
     case MotionProfile::tremor: return "tremor";
     case MotionProfile::mixed: return "mixed";
     case MotionProfile::listener: return "listener";
+    case MotionProfile::sweep: return "sweep";
   }
   return "?";
 }
@@ -93,6 +95,14 @@ Simulator::Simulator(const Camera& cam, const LedModel& model, SimulatorConfig c
   s_ << 0.0, 0.0, 0.5 * (cfg_.z_min_mm + cfg_.z_max_mm), 0.0, 0.0, 0.0;
   active_ = cfg_.motion;
   if (cfg_.motion == MotionProfile::walk) return;  // the walk draws nothing here: old files stay
+  if (cfg_.motion == MotionProfile::sweep) {
+    s_ << 0.0, 0.0, 1000.0, 0.0, 0.0, 0.0;
+    for (size_t i = 0; i < 6; ++i) {
+      draw_sweep_speed(i);
+      if (uniform_(rng_) < 0.5) sweep_v_[i] = -sweep_v_[i];
+    }
+    return;
+  }
   if (cfg_.motion == MotionProfile::mixed) active_ = MotionProfile::seated;
   const ProfileBox b = box_of(active_);
   s_[2] = 0.5 * (b.z_min_mm + b.z_max_mm);
@@ -118,6 +128,12 @@ void Simulator::step_profile(double dt, double t) {
     active_ = next;
     next_switch_t_ = t + 10.0 + 10.0 * uniform_(rng_);
   }
+  step_ou_head(dt);
+  step_turns(t);
+  step_rhythms(dt, t);
+}
+
+void Simulator::step_ou_head(double dt) {
   const ProfileBox b = box_of(active_);
   // The OU head: velocity with the profile's RMS and correlation time,
   // reflected at the box's bounds.
@@ -138,17 +154,20 @@ void Simulator::step_profile(double dt, double t) {
     if (s_[k] > hi[i]) v_[k] = -std::abs(v_[k]);
     if (s_[k] < lo[i]) v_[k] = std::abs(v_[k]);
   }
+}
 
+void Simulator::start_turn(double to, double t) {
+  const double amp = std::abs(to - turn_yaw_) / kDeg;
+  const double peak = std::min(500.0, 8.0 * amp * (0.85 + 0.3 * uniform_(rng_)));
+  turn_from_ = turn_yaw_;
+  turn_to_ = to;
+  turn_t0_ = t;
+  turn_T_ = std::max(0.05, 1.875 * amp / peak);  // minimum jerk: peak = 1.875 amp / T
+  turning_ = true;
+}
+
+void Simulator::step_turns(double t) {
   // Quick turns: toward a sound while orienting; back to the front otherwise.
-  auto start_turn = [&](double to) {
-    const double amp = std::abs(to - turn_yaw_) / kDeg;
-    const double peak = std::min(500.0, 8.0 * amp * (0.85 + 0.3 * uniform_(rng_)));
-    turn_from_ = turn_yaw_;
-    turn_to_ = to;
-    turn_t0_ = t;
-    turn_T_ = std::max(0.05, 1.875 * amp / peak);  // minimum jerk: peak = 1.875 amp / T
-    turning_ = true;
-  };
   if (turning_) {
     const double u = std::min(1.0, (t - turn_t0_) / turn_T_);
     turn_yaw_ = turn_from_ + (turn_to_ - turn_from_) * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
@@ -159,21 +178,23 @@ void Simulator::step_profile(double dt, double t) {
   } else if (active_ == MotionProfile::orienting && t >= next_turn_t_) {
     double to = (2.0 * uniform_(rng_) - 1.0) * kTurnYawMaxDeg * kDeg;
     if (std::abs(to - turn_yaw_) < 20.0 * kDeg) to = turn_yaw_ + std::copysign(20.0 * kDeg, -turn_yaw_);
-    start_turn(to);
+    start_turn(to, t);
   } else if (active_ == MotionProfile::listener && !looking_away_ && t >= next_look_t_) {
     // A look away: far enough that no LED stays in its beam.
     const double side = uniform_(rng_) < 0.5 ? -1.0 : 1.0;
-    start_turn(side * (70.0 + 40.0 * uniform_(rng_)) * kDeg);
+    start_turn(side * (70.0 + 40.0 * uniform_(rng_)) * kDeg, t);
     looking_away_ = true;
     look_back_t_ = t + turn_T_ + 1.5 + 1.5 * uniform_(rng_);
   } else if (active_ == MotionProfile::listener && looking_away_ && t >= look_back_t_) {
-    start_turn(0.0);
+    start_turn(0.0, t);
     looking_away_ = false;
     next_look_t_ = t + 60.0 + 60.0 * uniform_(rng_);
   } else if (active_ != MotionProfile::orienting && active_ != MotionProfile::listener && std::abs(turn_yaw_) > 1e-6) {
-    start_turn(0.0);
+    start_turn(0.0, t);
   }
+}
 
+void Simulator::step_rhythms(double dt, double t) {
   // Nodding bouts (a bout under way finishes whatever the profile).
   if (bout_t0_ >= 0.0 && t - bout_t0_ >= bout_T_) {
     bout_t0_ = -1.0;
@@ -195,6 +216,38 @@ void Simulator::step_profile(double dt, double t) {
   gait_phase_ += kTau * 0.5 * step_f_ * dt;  // stride phase: half the step frequency
   tremor_phase_ += kTau * tremor_f_ * dt;
   tremor_mod_phase_ += kTau * 0.1 * dt;
+}
+
+namespace {
+/// sweep: the ranges (x, y, z mm; yaw, pitch, roll deg) and median speeds
+/// per axis (mm/s, deg/s); see simulator.hpp.
+constexpr std::array<double, 6> kSweepLo{-120, -120, 700, -50, -35, -90};
+constexpr std::array<double, 6> kSweepHi{120, 120, 1300, 50, 35, 90};
+constexpr std::array<double, 6> kSweepMedian{150, 150, 150, 145, 90, 55};
+constexpr double kSweepSpread = 0.6;    ///< sigma of the log-normal speed
+constexpr double kSweepCap = 3.0;       ///< speeds at most this many medians
+constexpr double kSweepRedrawHz = 1.0;  ///< a fresh speed mid-leg this often
+}  // namespace
+
+void Simulator::draw_sweep_speed(size_t i) {
+  const double sign = sweep_v_[i] < 0.0 ? -1.0 : 1.0;
+  const double v = std::min(kSweepCap, std::exp(kSweepSpread * normal_(rng_))) * kSweepMedian[i];
+  sweep_v_[i] = sign * (i < 3 ? v : v * kDeg);
+}
+
+void Simulator::step_sweep(double dt) {
+  for (size_t i = 0; i < 6; ++i) {
+    if (uniform_(rng_) < kSweepRedrawHz * dt) draw_sweep_speed(i);
+    const double lo = i < 3 ? kSweepLo[i] : kSweepLo[i] * kDeg, hi = i < 3 ? kSweepHi[i] : kSweepHi[i] * kDeg;
+    s_[static_cast<Eigen::Index>(i)] += sweep_v_[i] * dt;
+    double& x = s_[static_cast<Eigen::Index>(i)];
+    // The range end: the velocity flips sign within this frame.
+    if (x > hi || x < lo) {
+      x = std::clamp(2.0 * (x > hi ? hi : lo) - x, lo, hi);
+      sweep_v_[i] = -sweep_v_[i];
+      draw_sweep_speed(i);
+    }
+  }
 }
 
 Pose Simulator::profile_pose(double t) const {
@@ -331,6 +384,15 @@ DotFrame Simulator::observe(const Pose& pose, double t) {
 DotFrame Simulator::next() {
   const double dt = 1.0 / cfg_.rate_hz;
   const double t = static_cast<double>(frame_) * dt;
+  if (cfg_.trace) {
+    ++frame_;
+    return observe(cfg_.trace->at(t), t);
+  }
+  if (cfg_.motion == MotionProfile::sweep) {
+    if (frame_ > 0) step_sweep(dt);
+    ++frame_;
+    return observe({rotation_from_ypr(s_[3], s_[4], s_[5]), s_.head<3>()}, t);
+  }
   if (cfg_.motion != MotionProfile::walk) {
     if (frame_ > 0) step_profile(dt, t);
     ++frame_;

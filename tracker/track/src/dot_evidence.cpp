@@ -242,4 +242,32 @@ void CameraBehaviour::observe(int leds_in_view, int leds_seen, bool stray) {
 double CameraBehaviour::dropped_share() const { return std::clamp(dropped_ / led_frames_, 0.002, 0.5); }
 double CameraBehaviour::stray_share() const { return std::clamp(strays_ / frames_, 0.002, 0.5); }
 
+void PoseDistribution::add(const Pose& p) {
+  if (!p.finite()) return;
+  n_ += 1.0;
+  if (n_ <= 1.0) {
+    mean_ = p;
+    return;
+  }
+  const double a = 1.0 / std::min(n_, memory_);
+  Eigen::Matrix<double, 6, 1> d;
+  d.head<3>() = log_so3(p.R * mean_.R.transpose());
+  d.tail<3>() = p.t - mean_.t;
+  mean_ = Pose{exp_so3(a * d.head<3>()) * mean_.R, mean_.t + a * d.tail<3>()};
+  cov_ = (1.0 - a) * cov_ + a * (1.0 - a) * d * d.transpose();
+}
+
+std::optional<CarriedPose> PoseDistribution::prior() const {
+  if (n_ < 100.0) return std::nullopt;
+  CarriedPose c;
+  c.pose = mean_;
+  c.spread = cov_;
+  constexpr double kMinRot = 5.0 * 3.14159265358979323846 / 180.0, kMinTrans = 20.0;
+  for (int i = 0; i < 3; ++i) {
+    c.spread(i, i) = std::max(c.spread(i, i), kMinRot * kMinRot);
+    c.spread(3 + i, 3 + i) = std::max(c.spread(3 + i, 3 + i), kMinTrans * kMinTrans);
+  }
+  return c;
+}
+
 }  // namespace earshot::tracker

@@ -50,6 +50,8 @@ constexpr double kFlipRad = 20.0 * 3.14159265358979323846 / 180.0;
 /// 100 : 1 the tuning seeds' fast walks gained 0.26 points tracked for 20
 /// more flipped frames, at 1000 : 1 0.22 points for 8.
 constexpr double kEvidenceLogOdds = 6.908;
+/// After a long loss: the share of the prior at the head's usual poses.
+constexpr double kUsualPoseWeight = 0.5;
 /// Share of the prediction at the largest manoeuvre the eskf allows: heads
 /// reverse or start a turn unseen, which the filter's own noise does not expect.
 constexpr double kManoeuvreWeight = 0.1;
@@ -116,6 +118,7 @@ void DotTracker::reset() {
   pixel_noise_.reset();
   noise_samples_ = 0;
   camera_stats_.reset();
+  head_poses_.reset();
   output_hyp_id_ = 0;
   output_slot_led_ = {-1, -1, -1, -1};
   last_eskf_dots_ = 4;
@@ -165,165 +168,195 @@ TrackResult DotTracker::process_thesis(const DotFrame& frame) {
   return r;
 }
 
+/// What following the hypotheses through one frame needs.
+struct DotTracker::FrameContext {
+  const DotFrame& frame;
+  LmSolver& solver;
+  int visible = 0;
+  double fit_gate = 0.0;  ///< px
+  double var = 0.0;       ///< pixel noise variance, px^2
+  bool noise_known = false;
+};
+
 TrackResult DotTracker::process_lm(const DotFrame& frame) {
   TrackResult r;
   r.t = frame.t;
   LmSolver solver(cam_, model_);
-  const int visible = frame.visible();
-
   // The fit gate follows the camera's pixel noise: 8-px quantisation leaves
   // residuals of a few pixels on every frame, which a gate set for integer
   // pixels would reject. Never below the configured gate.
   const double fit_gate = std::max(cfg_.labeller.fit_gate_px, kFitGateSigmas * std::sqrt(pixel_noise_.variance()));
   labeller_.set_fit_gate_px(fit_gate);
+  const FrameContext c{frame, solver, frame.visible(), fit_gate, std::max(kMinPixelVariance, pixel_noise_.variance()),
+                       noise_samples_ >= kNoiseKnownSamples};
 
+  if (follow_hypotheses(c)) {
+    std::erase_if(hyps_, [](const Hypothesis& h) { return h.dots == 0; });
+  } else if (c.visible >= 4 || frame.t - last_solve_t_ > cfg_.predict_timeout_s) {
+    hyps_.clear();  // lost the thread: acquire afresh from this frame
+  }
+  acquire(c);
+  prune_rivals();
+  if (const Hypothesis* best = choose_output(c)) give_out(r, *best);
+  return r;
+}
+
+bool DotTracker::follow_hypotheses(const FrameContext& c) {
   // Follow each hypothesis from its own prediction: the output's from the
   // eskf when it runs (its velocity is filtered; two noisy poses' difference
   // is not, and with coarse pixels it throws the prediction tens of pixels
   // off at speed), the rivals' from their last two poses.
-  const double var = std::max(kMinPixelVariance, pixel_noise_.variance());
-  const bool noise_known = noise_samples_ >= kNoiseKnownSamples;
   bool any_ok = false;
-  for (auto& h : hyps_) {
-    h.dots = 0;
-    h.ambiguous = false;
-    h.ssr4 = -1.0;
-    std::optional<Pose> filtered;
-    std::optional<Mat6> spread;
-    if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) {
-      filtered = eskf_.predict(frame.t);
-      spread = prediction_spread(frame.t);
-    }
-    const Pose pred = filtered ? *filtered : h.cv.predict(frame.t).value_or(h.pose);
-    // How far a pose is from the prediction: in the prediction's spread when
-    // the eskf gives one (rotation and translation weighed by what the motion
-    // allows). The pose's own covariance is left out: three dots leave it
-    // near singular along the very direction that separates two roots, and
-    // each root fits its dots exactly.
-    auto off = [&](const Pose& p) {
-      if (!spread) return pose_distance(p, pred);
-      return pose_mahalanobis2(p, pred, *spread);
-    };
-    auto lab = labeller_.follow(frame, pred);
-    if (!lab) continue;
-    // The pose of a labelling, if it fits and every LED it sees faces the camera.
-    auto fit = [&](const Labelling& l) -> std::optional<std::pair<Pose, double>> {
-      const auto pose = solver.solve({l.dots.view(), &pred});
-      if (!pose) return std::nullopt;
-      const double rms = rms_reprojection_error(*pose, l.dots.view(), cam_, model_);
-      if (!(rms <= fit_gate)) return std::nullopt;
-      if (!leds_face_camera(*pose, model_, l.dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
-        return std::nullopt;  // a mirror pose that turned the LEDs away: impossible
-      return std::pair{*pose, rms};
-    };
-    auto got = fit(*lab);
-    bool stray_suspect = !got && lab->dots.count == 4;
-    if (got && lab->dots.count == 4) {
-      h.ssr4 = 4.0 * got->second * got->second;
-      // Within the fit gate but not within the pixel noise: one of the four
-      // may be a stray taken for an LED (integer pixels fit to ~0.3 px; a
-      // stray that lands where the gate lets it in is off by pixels). Which
-      // one only a prediction with a known spread can say: the eskf's (two
-      // noisy poses' difference would pick a wrong P3P root as often).
-      stray_suspect = noise_known && spread && h.ssr4 > kChi2TwoDof999 * var;
-    }
-    if (stray_suspect) {
-      // The three that keep the thread are those whose pose is nearest the
-      // prediction: three dots always fit exactly, so their fit says nothing,
-      // but a stray among them pulls the pose away from where the head is.
-      // The four-dot pose stays a candidate: noise alone puts one fit in a
-      // thousand beyond the bound, and then no stray pulls it off the track.
-      std::optional<Labelling> best_lab;
-      if (got) best_lab = *lab;
-      double best_off = got ? off(got->first) : 0.0;
-      const Labelling four = *lab;
-      for (size_t drop = 0; drop < kSlots; ++drop) {
-        if (four.slot_led[drop] < 0) continue;
-        Labelling three;
-        for (size_t s = 0; s < kSlots; ++s)
-          if (s != drop && four.slot_led[s] >= 0) {
-            three.slot_led[s] = four.slot_led[s];
-            three.dots.add(four.slot_led[s], *frame.slots[s]);
-          }
-        if (auto g = fit(three)) {
-          const double d = off(g->first);
-          if (!best_lab || d < best_off) {
-            got = g;
-            best_lab = three;
-            best_off = d;
-          }
-        }
-      }
-      if (best_lab) lab = best_lab;
-    }
-    if (!got) continue;
-    if (lab->dots.count == 3 && spread) {
-      // Three dots fit up to four poses exactly. Take the P3P root most
-      // likely given the prediction; when another is about as likely, the
-      // frame cannot say which the head is in: follow it, but do not give
-      // it out as tracked (a held or predicted pose is better than a flip).
-      std::array<Vec3, 3> bearings, pts;
-      for (size_t i = 0; i < 3; ++i) {
-        bearings[i] = cam_.bearing(lab->dots.items[i].pixel);
-        pts[i] = model_.leds_mm[static_cast<size_t>(lab->dots.items[i].led)];
-      }
-      const P3PSolutions roots = p3p_lambda_twist(bearings, pts);
-      double m_best = INFINITY, m_rival = INFINITY;
-      const Pose* best_root = nullptr;
-      for (int k = 0; k < roots.count; ++k) {
-        const Pose& p = roots.poses[static_cast<size_t>(k)];
-        if (!p.finite() || !leds_face_camera(p, model_, lab->dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
-          continue;
-        bool dup = false;  // a double root reached twice
-        for (int j = 0; j < k; ++j) dup = dup || pose_distance(p, roots.poses[static_cast<size_t>(j)]) < 0.02;
-        if (dup) continue;
-        const double m = off(p);
-        if (m < m_best) {
-          m_rival = m_best;
-          m_best = m;
-          best_root = &p;
-        } else {
-          m_rival = std::min(m_rival, m);
-        }
-      }
-      // LM (a MAP estimate with the prediction as prior) starts from the root
-      // nearest the prediction in plain distance; when the spread puts
-      // another root nearer, the MAP estimate is sought from that one.
-      const Pose* lm_root = nullptr;
-      for (int k = 0; k < roots.count; ++k)
-        if (!lm_root || pose_distance(roots.poses[static_cast<size_t>(k)], got->first) < pose_distance(*lm_root, got->first))
-          lm_root = &roots.poses[static_cast<size_t>(k)];
-      if (best_root && lm_root && pose_distance(*best_root, *lm_root) > 0.02) {
-        const PosePrior prior{pred};
-        const LmResult r3 = refine_pose_lm(*best_root, lab->dots.view(), cam_, model_, LmOptions{}, &prior);
-        got->first = r3.pose.finite() ? r3.pose : *best_root;
-      }
-      // Ambiguous too when even the likeliest root is one no head motion
-      // explains (the eskf's own outlier bound): two LEDs and a stray, or
-      // labels gone wrong.
-      h.ambiguous = !(m_rival - m_best > kAmbiguousChi2Gap);
-    }
-    const auto& [pose, rms] = *got;
-    h.pose = pose;
-    h.cv.observe(pose, frame.t);
-    h.rms = rms;
-    h.dots = lab->dots.count;
-    if (h.dots >= 4) {
-      h.four_dot_t = frame.t;
-      ++h.four_dot_frames;
-    }
-    h.slot_led = lab->slot_led;
-    h.cost_sum += rms * rms;
-    h.ssr_sum += lab->dots.count * rms * rms;
-    ++h.frames;
-    any_ok = true;
-  }
-  if (any_ok) {
-    std::erase_if(hyps_, [](const Hypothesis& h) { return h.dots == 0; });
-  } else if (visible >= 4 || frame.t - last_solve_t_ > cfg_.predict_timeout_s) {
-    hyps_.clear();  // lost the thread: acquire afresh from this frame
-  }
+  for (auto& h : hyps_) any_ok = follow(h, c) || any_ok;
+  return any_ok;
+}
 
+std::optional<std::pair<Pose, double>> DotTracker::fit_labelling(const Labelling& l, const Pose& pred,
+                                                                 const FrameContext& c) const {
+  // The pose of a labelling, if it fits and every LED it sees faces the camera.
+  const auto pose = c.solver.solve({l.dots.view(), &pred});
+  if (!pose) return std::nullopt;
+  const double rms = rms_reprojection_error(*pose, l.dots.view(), cam_, model_);
+  if (!(rms <= c.fit_gate)) return std::nullopt;
+  if (!leds_face_camera(*pose, model_, l.dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
+    return std::nullopt;  // a mirror pose that turned the LEDs away: impossible
+  return std::pair{*pose, rms};
+}
+
+bool DotTracker::follow(Hypothesis& h, const FrameContext& c) {
+  const DotFrame& frame = c.frame;
+  h.dots = 0;
+  h.ambiguous = false;
+  h.ssr4 = -1.0;
+  std::optional<Pose> filtered;
+  std::optional<Mat6> spread;
+  if (cfg_.filter == FilterKind::eskf && h.id == output_hyp_id_ && eskf_.initialised()) {
+    filtered = eskf_.predict(frame.t);
+    spread = prediction_spread(frame.t);
+  }
+  const Pose pred = filtered ? *filtered : h.cv.predict(frame.t).value_or(h.pose);
+  auto lab = labeller_.follow(frame, pred);
+  if (!lab) return false;
+  auto got = fit_labelling(*lab, pred, c);
+  bool stray_suspect = !got && lab->dots.count == 4;
+  if (got && lab->dots.count == 4) {
+    h.ssr4 = 4.0 * got->second * got->second;
+    // Within the fit gate but not within the pixel noise: one of the four
+    // may be a stray taken for an LED (integer pixels fit to ~0.3 px; a
+    // stray that lands where the gate lets it in is off by pixels). Which
+    // one only a prediction with a known spread can say: the eskf's (two
+    // noisy poses' difference would pick a wrong P3P root as often).
+    stray_suspect = c.noise_known && spread && h.ssr4 > kChi2TwoDof999 * c.var;
+  }
+  if (stray_suspect) drop_stray(lab, got, pred, spread, c);
+  if (!got) return false;
+  if (lab->dots.count == 3 && spread) h.ambiguous = choose_root(*lab, got->first, pred, *spread);
+  const auto& [pose, rms] = *got;
+  h.pose = pose;
+  h.cv.observe(pose, frame.t);
+  h.rms = rms;
+  h.dots = lab->dots.count;
+  if (h.dots >= 4) {
+    h.four_dot_t = frame.t;
+    ++h.four_dot_frames;
+  }
+  h.slot_led = lab->slot_led;
+  h.cost_sum += rms * rms;
+  h.ssr_sum += lab->dots.count * rms * rms;
+  ++h.frames;
+  return true;
+}
+
+double DotTracker::off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread) {
+  // How far a pose is from the prediction: in the prediction's spread when
+  // the eskf gives one (rotation and translation weighed by what the motion
+  // allows). The pose's own covariance is left out: three dots leave it
+  // near singular along the very direction that separates two roots, and
+  // each root fits its dots exactly.
+  if (!spread) return pose_distance(p, pred);
+  return pose_mahalanobis2(p, pred, *spread);
+}
+
+void DotTracker::drop_stray(std::optional<Labelling>& lab, std::optional<std::pair<Pose, double>>& got,
+                            const Pose& pred, const std::optional<Mat6>& spread, const FrameContext& c) const {
+  // The three that keep the thread are those whose pose is nearest the
+  // prediction: three dots always fit exactly, so their fit says nothing,
+  // but a stray among them pulls the pose away from where the head is.
+  // The four-dot pose stays a candidate: noise alone puts one fit in a
+  // thousand beyond the bound, and then no stray pulls it off the track.
+  std::optional<Labelling> best_lab;
+  if (got) best_lab = *lab;
+  double best_off = got ? off_prediction(got->first, pred, spread) : 0.0;
+  const Labelling four = *lab;
+  for (size_t drop = 0; drop < kSlots; ++drop) {
+    if (four.slot_led[drop] < 0) continue;
+    Labelling three;
+    for (size_t s = 0; s < kSlots; ++s)
+      if (s != drop && four.slot_led[s] >= 0) {
+        three.slot_led[s] = four.slot_led[s];
+        three.dots.add(four.slot_led[s], *c.frame.slots[s]);
+      }
+    if (auto g = fit_labelling(three, pred, c)) {
+      const double d = off_prediction(g->first, pred, spread);
+      if (!best_lab || d < best_off) {
+        got = g;
+        best_lab = three;
+        best_off = d;
+      }
+    }
+  }
+  if (best_lab) lab = best_lab;
+}
+
+bool DotTracker::choose_root(const Labelling& lab, Pose& pose, const Pose& pred, const Mat6& spread) const {
+  // Three dots fit up to four poses exactly. Take the P3P root most
+  // likely given the prediction; when another is about as likely, the
+  // frame cannot say which the head is in: follow it, but do not give
+  // it out as tracked (a held or predicted pose is better than a flip).
+  std::array<Vec3, 3> bearings, pts;
+  for (size_t i = 0; i < 3; ++i) {
+    bearings[i] = cam_.bearing(lab.dots.items[i].pixel);
+    pts[i] = model_.leds_mm[static_cast<size_t>(lab.dots.items[i].led)];
+  }
+  const P3PSolutions roots = p3p_lambda_twist(bearings, pts);
+  double m_best = INFINITY, m_rival = INFINITY;
+  const Pose* best_root = nullptr;
+  for (int k = 0; k < roots.count; ++k) {
+    const Pose& p = roots.poses[static_cast<size_t>(k)];
+    if (!p.finite() || !leds_face_camera(p, model_, lab.dots.view(), model_.half_angle + cfg_.labeller.beam_margin_rad))
+      continue;
+    bool dup = false;  // a double root reached twice
+    for (int j = 0; j < k; ++j) dup = dup || pose_distance(p, roots.poses[static_cast<size_t>(j)]) < 0.02;
+    if (dup) continue;
+    const double m = off_prediction(p, pred, spread);
+    if (m < m_best) {
+      m_rival = m_best;
+      m_best = m;
+      best_root = &p;
+    } else {
+      m_rival = std::min(m_rival, m);
+    }
+  }
+  // LM (a MAP estimate with the prediction as prior) starts from the root
+  // nearest the prediction in plain distance; when the spread puts
+  // another root nearer, the MAP estimate is sought from that one.
+  const Pose* lm_root = nullptr;
+  for (int k = 0; k < roots.count; ++k)
+    if (!lm_root || pose_distance(roots.poses[static_cast<size_t>(k)], pose) < pose_distance(*lm_root, pose))
+      lm_root = &roots.poses[static_cast<size_t>(k)];
+  if (best_root && lm_root && pose_distance(*best_root, *lm_root) > 0.02) {
+    const PosePrior prior{pred};
+    const LmResult r3 = refine_pose_lm(*best_root, lab.dots.view(), cam_, model_, LmOptions{}, &prior);
+    pose = r3.pose.finite() ? r3.pose : *best_root;
+  }
+  // Ambiguous too when even the likeliest root is one no head motion
+  // explains (the eskf's own outlier bound): two LEDs and a stray, or
+  // labels gone wrong.
+  return !(m_rival - m_best > kAmbiguousChi2Gap);
+}
+
+void DotTracker::acquire(const FrameContext& c) {
+  const DotFrame& frame = c.frame;
   // Four dots seen but every hypothesis explains only three (calling the
   // fourth a stray): a labelling that explains all four wins if one exists.
   // Once the pixel noise is known, a labelling of four dots must fit within
@@ -331,17 +364,17 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   // a near-planar beacon to a few pixels far more often than to the noise.
   const bool all_partial = std::none_of(hyps_.begin(), hyps_.end(), [](const Hypothesis& h) { return h.dots >= 4; });
   std::vector<Labelling> acquired;
-  if (visible >= 4 && (hyps_.empty() || all_partial)) {
+  if (c.visible >= 4 && (hyps_.empty() || all_partial)) {
     acquired = labeller_.acquire(frame);
-    if (noise_known)
-      std::erase_if(acquired, [&](const Labelling& l) { return 4.0 * l.rms_px * l.rms_px > kChi2TwoDof999 * var; });
+    if (c.noise_known)
+      std::erase_if(acquired, [&](const Labelling& l) { return 4.0 * l.rms_px * l.rms_px > kChi2TwoDof999 * c.var; });
     // A labelling no head motion from a trusted state explains is not
     // acquired: after a short loss, or in place of a 3-dot track.
-    drop_unreachable(acquired, frame.t, var);
+    drop_unreachable(acquired, frame.t, c.var);
   }
   if (!hyps_.empty() && all_partial && !acquired.empty()) hyps_.clear();
 
-  if (hyps_.empty() && visible >= 4) {
+  if (hyps_.empty() && c.visible >= 4) {
     for (const auto& l : acquired) {
       Hypothesis h;
       h.pose = l.pose;
@@ -364,27 +397,30 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
       eskf_.reset();
     }
   }
-  if (hyps_.empty() && visible >= 3 && last_raw_ && frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
+  if (hyps_.empty() && c.visible >= 3 && last_raw_ && frame.t - last_solve_t_ <= cfg_.reacquire3_window_s) {
     // The nearest single answer first (what the tracker did before); when
     // there is none, the evidence of every explanation of the dots.
-    reacquire_nearest(frame, solver);
+    reacquire_nearest(frame, c.solver);
     if (hyps_.empty() && cfg_.filter == FilterKind::eskf && eskf_.initialised())
-      if (auto h = reacquire_by_evidence(frame, var)) hyps_.push_back(*h);
+      if (auto h = reacquire_by_evidence(frame, c.var)) hyps_.push_back(*h);
   }
+}
 
+void DotTracker::prune_rivals() {
   // Rival hypotheses compete on accumulated reprojection error; the loser
   // goes once it is clearly worse or the contest has run its course.
-  if (hyps_.size() > 1) {
-    auto best = std::min_element(hyps_.begin(), hyps_.end(), [](const auto& a, const auto& b) {
-      return a.cost_sum < b.cost_sum;
-    });
-    const double best_cost = best->cost_sum;
-    const int frames = best->frames;
-    std::erase_if(hyps_, [&](const Hypothesis& h) {
-      return h.cost_sum > 4.0 * best_cost + 1.0 || (frames >= cfg_.disambiguation_frames && h.cost_sum > best_cost);
-    });
-  }
+  if (hyps_.size() <= 1) return;
+  auto best = std::min_element(hyps_.begin(), hyps_.end(), [](const auto& a, const auto& b) {
+    return a.cost_sum < b.cost_sum;
+  });
+  const double best_cost = best->cost_sum;
+  const int frames = best->frames;
+  std::erase_if(hyps_, [&](const Hypothesis& h) {
+    return h.cost_sum > 4.0 * best_cost + 1.0 || (frames >= cfg_.disambiguation_frames && h.cost_sum > best_cost);
+  });
+}
 
+const DotTracker::Hypothesis* DotTracker::choose_output(const FrameContext& c) {
   const Hypothesis* best = nullptr;
   for (const auto& h : hyps_)
     if (h.dots > 0 && (!best || h.cost_sum < best->cost_sum)) best = &h;
@@ -393,12 +429,17 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   // learns its larger residuals instead of calling every fourth dot a stray;
   // capped at the test's own bound, so a stray moves it by little.
   if (best && best->ssr4 >= 0.0) {
-    pixel_noise_.add(noise_known ? std::min(best->ssr4, kChi2TwoDof999 * var) : best->ssr4, 4);
+    pixel_noise_.add(c.noise_known ? std::min(best->ssr4, kChi2TwoDof999 * c.var) : best->ssr4, 4);
     ++noise_samples_;
   }
-  if (best) observe_camera(*best, frame);
+  if (best) observe_camera(*best, c.frame);
   // A 3-dot frame whose P3P roots motion cannot tell apart is not given out.
-  if (best && best->ambiguous) best = nullptr;
+  if (best && best->ambiguous) return nullptr;
+  if (best && rival_about_as_likely(*best, c)) return nullptr;
+  return best;
+}
+
+bool DotTracker::rival_about_as_likely(const Hypothesis& best, const FrameContext& c) const {
   // Nor is a pose whose rival explanation of the same dots is about as
   // likely and another answer: after a loss, four dots of a near-symmetric
   // beacon can fit two labellings within the pixel noise (on 8-px pixels a
@@ -409,48 +450,44 @@ TrackResult DotTracker::process_lm(const DotFrame& frame) {
   // gone. A rival within the best pose's own uncertainty (chi-square, 6
   // degrees of freedom, 99.9 %) is the same answer: coarse pixels leave two
   // nearby minima of the error, and either is as good as the noise allows.
-  if (best) {
-    std::optional<Mat6> cov;
-    for (const auto& h : hyps_) {
-      if (&h == best || h.dots == 0 || (h.ssr_sum - best->ssr_sum) / (2.0 * var) >= kAmbiguousLogRatio) continue;
-      if (!cov) {
-        LabelledDots dots;
-        for (size_t s = 0; s < kSlots; ++s)
-          if (best->slot_led[s] >= 0 && frame.slots[s]) dots.add(best->slot_led[s], *frame.slots[s]);
-        cov = pose_covariance(best->pose, dots.view(), cam_, model_, var);
-      }
-      if (!(pose_mahalanobis2(h.pose, best->pose, *cov) <= kChi2SixDof999)) {
-        best = nullptr;
-        break;
-      }
+  std::optional<Mat6> cov;
+  for (const auto& h : hyps_) {
+    if (&h == &best || h.dots == 0 || (h.ssr_sum - best.ssr_sum) / (2.0 * c.var) >= kAmbiguousLogRatio) continue;
+    if (!cov) {
+      LabelledDots dots;
+      for (size_t s = 0; s < kSlots; ++s)
+        if (best.slot_led[s] >= 0 && c.frame.slots[s]) dots.add(best.slot_led[s], *c.frame.slots[s]);
+      cov = pose_covariance(best.pose, dots.view(), cam_, model_, c.var);
     }
+    if (!(pose_mahalanobis2(h.pose, best.pose, *cov) <= kChi2SixDof999)) return true;
   }
-  if (best) {
-    r.state = PoseState::tracking;
-    r.raw_pose = best->pose;
-    r.rms_px = best->rms;
-    r.dots_used = best->dots;
-    r.slot_led = best->slot_led;
-    // Another explanation of the dots than last frame's (a re-acquisition,
-    // the rival winning, or a dot seen under another LED's label): its pose
-    // is not a measurement of the same track, so the eskf starts afresh.
-    bool relabelled = best->id != output_hyp_id_;
-    for (size_t s = 0; s < kSlots; ++s)
-      if (best->slot_led[s] >= 0 && output_slot_led_[s] >= 0 && best->slot_led[s] != output_slot_led_[s]) relabelled = true;
-    if (relabelled) eskf_.reset();
-    r.track_frames = best->frames;
-    r.acquired_dots = best->born_dots;
-    output_hyp_id_ = best->id;
-    output_slot_led_ = best->slot_led;
-    // Trusted: acquired from four dots, and fitted by four dots on as many
-    // frames as rival explanations compete for (disambiguation_frames). Not
-    // a track that merely passed the reachability test at acquisition: after
-    // a gap of 0.17 s a 165 deg turn passes it, and a wrong labelling trusted
-    // so would refuse the right one.
-    eskf_trusted_ = best->born_dots >= 4 && best->four_dot_frames >= cfg_.disambiguation_frames;
-    eskf_four_dot_t_ = best->four_dot_t;
-  }
-  return r;
+  return false;
+}
+
+void DotTracker::give_out(TrackResult& r, const Hypothesis& best) {
+  r.state = PoseState::tracking;
+  r.raw_pose = best.pose;
+  r.rms_px = best.rms;
+  r.dots_used = best.dots;
+  r.slot_led = best.slot_led;
+  // Another explanation of the dots than last frame's (a re-acquisition,
+  // the rival winning, or a dot seen under another LED's label): its pose
+  // is not a measurement of the same track, so the eskf starts afresh.
+  bool relabelled = best.id != output_hyp_id_;
+  for (size_t s = 0; s < kSlots; ++s)
+    if (best.slot_led[s] >= 0 && output_slot_led_[s] >= 0 && best.slot_led[s] != output_slot_led_[s]) relabelled = true;
+  if (relabelled) eskf_.reset();
+  r.track_frames = best.frames;
+  r.acquired_dots = best.born_dots;
+  output_hyp_id_ = best.id;
+  output_slot_led_ = best.slot_led;
+  // Trusted: acquired from four dots, and fitted by four dots on as many
+  // frames as rival explanations compete for (disambiguation_frames). Not
+  // a track that merely passed the reachability test at acquisition: after
+  // a gap of 0.17 s a 165 deg turn passes it, and a wrong labelling trusted
+  // so would refuse the right one.
+  eskf_trusted_ = best.born_dots >= 4 && best.four_dot_frames >= cfg_.disambiguation_frames;
+  eskf_four_dot_t_ = best.four_dot_t;
 }
 
 void DotTracker::drop_unreachable(std::vector<Labelling>& acquired, double t, double var) const {
@@ -530,8 +567,16 @@ std::optional<DotTracker::Hypothesis> DotTracker::reacquire_by_evidence(const Do
   const EskfStep& st = eskf_.last_step();
   const OuMotion nominal{st.q_rot, st.q_trans, kHeadRotationTauS, kHeadTranslationTauS};
   const OuMotion wide = head_motion(cfg_.eskf, kMaxManoeuvreScale);
-  const MotionPrior prior{carry_ou(st, frame.t, nominal), carry_ou(st, frame.t, wide)};
-  const EvidenceModel m{var, camera_stats_.dropped_share(), camera_stats_.stray_share(), kManoeuvreWeight};
+  MotionPrior prior{carry_ou(st, frame.t, nominal), carry_ou(st, frame.t, wide)};
+  EvidenceModel m{var, camera_stats_.dropped_share(), camera_stats_.stray_share(), kManoeuvreWeight};
+  // Beyond the eskf's gap limit the carried state has spread over tens of
+  // degrees: where the head usually is (PoseDistribution) takes the place of
+  // the manoeuvre, at even weight.
+  const auto usual = head_poses_.prior();
+  if (frame.t - st.t > cfg_.eskf.max_gap_s && usual) {
+    prior.wide = *usual;
+    m.wide_weight = kUsualPoseWeight;
+  }
   std::vector<DotExplanation> all = explain_dots(frame, cam_, model_, var);
   for (auto& e : all) score_explanation(e, cam_, model_, m, prior);
   const EvidenceChoice c = choose_explanation(all, kFlipRad);
@@ -570,6 +615,7 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
   prev_frame_t_ = r.t;
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
+    head_poses_.add(r.raw_pose);
     if (cfg_.method == SolverMethod::thesis)  // the LM path adds its own in process_lm
       pixel_noise_.add(r.rms_px * r.rms_px * r.dots_used, r.dots_used);
     last_solve_t_ = r.t;
@@ -591,6 +637,7 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
           eskf_.reset();
           r.pose = eskf_.update(r.raw_pose, cov, r.t);
         }
+        r.pose = guard(eskf_, r.pose, r.raw_pose, cov, cfg_.guard_chi2);
         last_eskf_dots_ = dots.count;
         if (dots.count >= 4) resumed_on_three_ = false;
         else if (resumed) resumed_on_three_ = true;
@@ -598,15 +645,28 @@ TrackResult DotTracker::finish(TrackResult r, const DotFrame& frame) {
       }
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s && cfg_.method == SolverMethod::lm) {
-    if (auto p = cv_.predict(r.t)) {
-      r.state = PoseState::predicted;
-      if (cfg_.filter == FilterKind::eskf)
-        if (auto q = eskf_.predict(r.t)) p = q;  // the filter's velocities, not two noisy poses
-      r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
-    }
+    predict_output(r);
   }
-  detail::settle_output(r, last_output_);  // hold the last pose when lost; never pass a bad number on
+  detail::settle_output(r, last_output_);  // hold the last tracked pose when lost; never pass a bad number on
   return r;
+}
+
+void DotTracker::predict_output(TrackResult& r) {
+  auto p = cv_.predict(r.t);
+  if (cfg_.filter == FilterKind::eskf)
+    if (auto q = eskf_.predict(r.t)) p = q;  // the filter's velocities, not two noisy poses
+  if (!p || !last_output_) return;
+  // Only while the prediction stays within what the camera last saw: what
+  // it adds beyond the last tracked pose, and (with the eskf) its own
+  // spread, each within TrackerConfig::predict_reach_rad. Past it the output holds the
+  // last tracked pose (settle_output): a head that was turning when its
+  // dots went may have stopped, and a coasted pose held for a loss of
+  // seconds is off by all it coasted.
+  if (!detail::within_reach(*p, *last_output_, cfg_.filter == FilterKind::eskf ? &eskf_ : nullptr, r.t,
+                            cfg_.predict_reach_rad))
+    return;
+  r.state = PoseState::predicted;
+  r.pose = cfg_.filter == FilterKind::one_euro ? one_euro_.filter(*p, r.t) : *p;
 }
 
 }  // namespace earshot::tracker

@@ -7,6 +7,10 @@
 #include "settle_output.hpp"
 
 namespace earshot::tracker {
+namespace {
+/// ln 100: the odds a rival branch needs to replace the one given out.
+constexpr double kBranchLogOdds = 4.605;
+}  // namespace
 
 LabelledTracker::LabelledTracker(const Camera& cam, const LedModel& model, TrackerConfig cfg)
     : cam_(cam), model_(model), cfg_(cfg), eskf_(cfg.eskf) {
@@ -51,6 +55,7 @@ TrackResult LabelledTracker::process(const DotFrame& frame) {
       h.cv.observe(*pose, frame.t);
       h.rms = rms;
       h.cost_sum += rms * rms;
+      h.ssr_sum += dots.count * rms * rms;
       ++h.frames;
       h.seen = any = true;
     }
@@ -68,6 +73,7 @@ TrackResult LabelledTracker::process(const DotFrame& frame) {
         h.cv.observe(p, frame.t);
         h.rms = e;
         h.cost_sum = e * e;
+        h.ssr_sum = dots.count * e * e;
         h.frames = 1;
         h.seen = true;
         h.id = ++next_id_;
@@ -88,18 +94,7 @@ TrackResult LabelledTracker::process(const DotFrame& frame) {
     }
   }
 
-  if (hyps_.size() > 1) {
-    const auto best = std::min_element(hyps_.begin(), hyps_.end(),
-                                       [](const auto& a, const auto& b) { return a.cost_sum < b.cost_sum; });
-    const double best_cost = best->cost_sum;
-    const int frames = best->frames;
-    std::erase_if(hyps_, [&](const Hypothesis& h) {
-      return h.cost_sum > 4.0 * best_cost + 1.0 || (frames >= cfg_.disambiguation_frames && h.cost_sum > best_cost);
-    });
-  }
-  const Hypothesis* best = nullptr;
-  for (const auto& h : hyps_)
-    if (h.seen && (!best || h.cost_sum < best->cost_sum)) best = &h;
+  const Hypothesis* best = choose_branch();
   if (best) {
     r.state = PoseState::tracking;
     r.raw_pose = best->pose;
@@ -113,6 +108,37 @@ TrackResult LabelledTracker::process(const DotFrame& frame) {
   return finish(r, dots);
 }
 
+const LabelledTracker::Hypothesis* LabelledTracker::choose_branch() {
+  // Each frame adds a hypothesis's squared residuals over the pixel
+  // variance to its log-likelihood (twice over); a rival is 100 : 1 more
+  // likely than another once its sum is 2 var ln 100 lower.
+  const double var = std::max(1e-2, cfg_.pixel_variance > 0.0 ? cfg_.pixel_variance : pixel_noise_.variance());
+  const double margin = 2.0 * var * kBranchLogOdds;
+  const Hypothesis* lowest = nullptr;
+  const Hypothesis* output = nullptr;
+  for (const auto& h : hyps_) {
+    if (!h.seen) continue;
+    if (!lowest || h.ssr_sum < lowest->ssr_sum) lowest = &h;
+    if (h.id == output_id_) output = &h;
+  }
+  if (!lowest) return nullptr;
+  // The branch given out stays while tracking, unless another explains the
+  // corners 100 : 1 better: a tag seen small fits its mirror pose about as
+  // well, and the cheaper of two near-equal fits changes from frame to frame.
+  const Hypothesis* keep = output && !(output->ssr_sum - lowest->ssr_sum >= margin) ? output : lowest;
+  // A rival goes once the evidence is 100 : 1 against it, or when the
+  // contest has run three times its course without deciding.
+  const long keep_id = keep->id;
+  const double keep_ssr = keep->ssr_sum;
+  const int frames = keep->frames;
+  std::erase_if(hyps_, [&](const Hypothesis& h) {
+    return h.id != keep_id && (h.ssr_sum - keep_ssr >= margin || frames >= 3 * cfg_.disambiguation_frames);
+  });
+  for (const auto& h : hyps_)
+    if (h.id == keep_id) return &h;
+  return nullptr;
+}
+
 TrackResult LabelledTracker::finish(TrackResult r, const LabelledDots& dots) {
   if (r.state == PoseState::tracking) {
     cv_.observe(r.raw_pose, r.t);
@@ -124,15 +150,17 @@ TrackResult LabelledTracker::finish(TrackResult r, const LabelledDots& dots) {
       case FilterKind::eskf: {
         pixel_noise_.add(r.rms_px * r.rms_px * dots.count, dots.count);
         const double var = cfg_.pixel_variance > 0.0 ? cfg_.pixel_variance : pixel_noise_.variance();
-        r.pose = eskf_.update(r.raw_pose, pose_covariance(r.raw_pose, dots.view(), cam_, model_, var), r.t);
+        const Mat6 cov = pose_covariance(r.raw_pose, dots.view(), cam_, model_, var);
+        r.pose = guard(eskf_, eskf_.update(r.raw_pose, cov, r.t), r.raw_pose, cov, cfg_.guard_chi2);
         break;
       }
     }
   } else if (r.t - last_solve_t_ <= cfg_.predict_timeout_s) {
     std::optional<Pose> p = cv_.predict(r.t);
-    if (cfg_.filter == FilterKind::eskf && eskf_.initialised())
+    const bool eskf = cfg_.filter == FilterKind::eskf && eskf_.initialised();
+    if (eskf)
       if (auto q = eskf_.predict(r.t)) p = q;
-    if (p) {
+    if (p && last_output_ && detail::within_reach(*p, *last_output_, eskf ? &eskf_ : nullptr, r.t, cfg_.predict_reach_rad)) {
       r.state = PoseState::predicted;
       r.pose = *p;
     }

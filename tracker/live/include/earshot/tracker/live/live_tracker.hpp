@@ -20,6 +20,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -39,6 +40,17 @@ class LiveTracker {
   /// Called on the tracker thread after each publication (recording, UIs).
   /// Keep it short: the next frame waits for it.
   using PoseCallback = std::function<void(const HeadPose&)>;
+
+  /// One tracker frame (a camera frame, or a pose from a source that solves
+  /// its own), for recordings: what the pipeline put out for it, with the
+  /// tracker's state, and for camera frames the beacon's absolute pose in
+  /// the camera frame (mm), once the tracker has one. Notes carry no frame
+  /// and make no row.
+  struct FrameRow {
+    HeadPose listener;
+    std::optional<Pose> camera;
+  };
+  using FrameCallback = std::function<void(const FrameRow&)>;
 
   /// What the source said about its device, from its notes.
   enum class Link {
@@ -72,7 +84,7 @@ class LiveTracker {
   /// Throws what opening a sender throws (a host that does not resolve)
   /// before the thread starts.
   LiveTracker(std::unique_ptr<FrameSource> source, PoseSlot& slot, LiveConfig cfg = {},
-              PoseCallback on_pose = {});
+              PoseCallback on_pose = {}, FrameCallback on_frame = {});
   ~LiveTracker();  ///< stops and joins
   LiveTracker(const LiveTracker&) = delete;
   LiveTracker& operator=(const LiveTracker&) = delete;
@@ -89,13 +101,23 @@ class LiveTracker {
   [[nodiscard]] const PoseSenders& senders() const { return senders_; }
 
  private:
+  using Clock = std::chrono::steady_clock;
+  struct Loop;
   void run(std::stop_token stop);
+  // The steps of run.
+  /// One event from the source; false when the source ended.
+  bool handle(Loop& l, const SourceEvent& e);
+  void note_link(Loop& l, const SourceNote& n);
+  void show_dots(Loop& l, const CameraFrame& frame, Clock::time_point wall);
+  void process(const SourceEvent& e, double now);
+  void update_status(Loop& l, Clock::time_point wall);
 
   std::unique_ptr<FrameSource> source_;
   PoseSlot& slot_;
   bool keep_running_after_end_;
   LivePipeline pipeline_;
   PoseCallback on_pose_;
+  FrameCallback on_frame_;
   PoseSenders senders_;
   std::atomic<bool> recenter_{false};
   std::atomic<bool> running_{true};

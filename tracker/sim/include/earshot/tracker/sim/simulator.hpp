@@ -33,6 +33,13 @@
 //             deg amplitude, slowly modulated: the range of pathological head
 //             tremor (Deuschl et al. 1998, Mov. Disord. 13 S3:2).
 //  mixed      10-20 s segments of the five above in random order.
+//  sweep      fast and impulsive, written apart from `walk` as a second fast
+//             generator: each of yaw (+-50 deg), pitch (+-35), roll (+-90),
+//             x, y (+-120 mm) and z (700-1300 mm) sweeps at a constant speed
+//             drawn per leg (log-normal: median yaw 145, pitch 90, roll 55
+//             deg/s, 150 mm/s; capped at 3x), and reverses in one frame at
+//             its range ends (a head stopped by a headrest or the neck's
+//             range), with a fresh speed now and then (1/s) mid-leg.
 //  listener   the demo's simulated listener (the default of SimSource): the
 //             seated head, in view, and now and then a look away: a quick
 //             turn of 70-110 deg yaw (minimum jerk, capped at 500 deg/s, as
@@ -48,6 +55,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <random>
 #include <string_view>
@@ -56,13 +64,14 @@
 #include "earshot/tracker/core/camera.hpp"
 #include "earshot/tracker/core/dots_csv.hpp"
 #include "earshot/tracker/core/led_model.hpp"
+#include "earshot/tracker/sim/head_trace.hpp"
 
 namespace earshot::tracker {
 
 enum class PixelModel { exact, integer, quantize8, gaussian };
 [[nodiscard]] std::optional<PixelModel> pixel_model_from(std::string_view name);
 
-enum class MotionProfile { walk, seated, orienting, nodding, walking, tremor, mixed, listener };
+enum class MotionProfile { walk, seated, orienting, nodding, walking, tremor, mixed, listener, sweep };
 [[nodiscard]] std::optional<MotionProfile> motion_profile_from(std::string_view name);
 [[nodiscard]] std::string_view motion_profile_name(MotionProfile m);
 
@@ -82,6 +91,9 @@ struct SimulatorConfig {
   double noise_px = 0.5;          ///< sigma for PixelModel::gaussian
   double dropout_rate = 0.0;      ///< per LED and frame: chance a dropout starts
   double stray_rate = 0.0;        ///< per frame: chance a stray reflection appears
+  /// A recorded head (head_trace.hpp): when set, it moves the beacon instead
+  /// of `motion`.
+  std::shared_ptr<const HeadTrace> trace{};
 };
 
 /// Angular speed statistics of a motion (deg/s), from consecutive
@@ -116,6 +128,13 @@ class Simulator {
  private:
   void step(double dt);
   void step_profile(double dt, double t);
+  // The steps of step_profile, in order.
+  void step_ou_head(double dt);
+  void step_turns(double t);
+  void start_turn(double to, double t);
+  void step_rhythms(double dt, double t);
+  void step_sweep(double dt);
+  void draw_sweep_speed(size_t axis);
   [[nodiscard]] Pose profile_pose(double t) const;
   double round_pixel(double v);
 
@@ -144,6 +163,8 @@ class Simulator {
   double step_f_ = 1.9, bob_mm_ = 20.0, sway_mm_ = 20.0, gait_phase_ = 0.0;
   double gait_level_ = 0.0, tremor_level_ = 0.0;
   double tremor_f_ = 5.0, tremor_amp_ = 0.0, tremor_phase_ = 0.0, tremor_mod_phase_ = 0.0;
+  // sweep: each axis's speed (signed: its direction)
+  std::array<double, 6> sweep_v_{};
   int stray_left_ = 0;
   Vec2 stray_px_ = Vec2::Zero();
 };

@@ -99,6 +99,29 @@ class SlotMemory {
   std::array<int, kSlots> led_{-1, -1, -1, -1};  ///< -1: no LED known in the slot
 };
 
+/// Where the head is over the long run, learnt from tracked poses: their
+/// mean (rotation about it by its log) and covariance, forgetting over
+/// ~`memory` samples (a minute at 100 Hz). After a loss longer than the
+/// eskf's gap limit the carried state says little (an OU velocity carried
+/// for seconds spreads over tens of degrees), and where the listener
+/// usually is says more: the dot tracker weighs it in as the prior's wide
+/// component.
+class PoseDistribution {
+ public:
+  explicit PoseDistribution(double memory = 6000.0) : memory_(memory) {}
+  void add(const Pose& p);
+  /// The mean with the covariance (at least 5 deg and 20 mm per axis);
+  /// nullopt before 100 poses.
+  [[nodiscard]] std::optional<CarriedPose> prior() const;
+  void reset() { *this = PoseDistribution{memory_}; }
+
+ private:
+  double memory_;
+  double n_ = 0.0;
+  Pose mean_;
+  Mat6 cov_ = Mat6::Zero();
+};
+
 /// The camera's dropouts and strays, learnt from tracked frames: the share of
 /// LEDs the tracked pose puts in view that were not seen, and of frames with
 /// a dot no LED explains. Both start from a weak prior (2 % over 400 LED

@@ -1,7 +1,9 @@
 // The pose pipeline for one camera: dots in, beacon pose out.
 //   label (labeller.hpp) -> solve (solver.hpp) -> filter (filters.hpp)
 // It keeps a state per frame: tracking (solved from 3 or 4 dots), predicted
-// (too few dots, pose extrapolated for up to `predict_timeout_s`) or lost.
+// (too few dots, pose extrapolated for up to `predict_timeout_s` while it stays
+// within `predict_reach_rad` of the last tracked pose) or lost (the last
+// tracked pose held).
 //
 // Near-planar beacons (like the thesis's) admit two poses that fit one frame
 // almost equally well. After (re)acquisition the tracker follows every
@@ -28,7 +30,13 @@
 // view, and two LEDs with strays, scored by the pixel noise, the camera's
 // learnt dropout and stray shares and the carried state; the likeliest is
 // taken when it is 1000 : 1 against every explanation more than 20 deg from
-// it and passes the same reachability test.
+// it and passes the same reachability test. This holds after any loss: beyond
+// the eskf's gap limit, where the carried state has spread over tens of
+// degrees, the prior's wide part is where the head usually is (a
+// PoseDistribution learnt from the tracked poses), at even weight; the
+// 45-deg beam is in every explanation (an LED it puts in view but unseen is
+// a dropout), so a return whose fourth LED is beyond its beam edge is taken
+// from its first three dots.
 //
 // A 4-dot acquisition, after a loss or in place of a track on three dots,
 // must be reachable too when the eskf's state deserves trust: its track was
@@ -53,6 +61,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 #include <optional>
 #include <vector>
 
@@ -78,9 +87,22 @@ struct TrackerConfig {
   FilterKind filter = FilterKind::none;
   LabellerOptions labeller{};
   double predict_timeout_s = 0.1;  ///< predicted state lasts at most this long
+  /// ... and only while the prediction moves the pose at most this far from
+  /// the last tracked output, and (eskf) its rotation spread stays within it
+  /// (rad): then the output holds the last tracked pose. 1 deg: a frame at
+  /// 100 deg/s.
+  double predict_reach_rad = 1.0 * 3.14159265358979323846 / 180.0;
   int disambiguation_frames = 30;  ///< frames over which rival hypotheses compete
-  double reacquire3_window_s = 3.0;  ///< after a loss, re-acquire from 3 dots this long
+  double reacquire3_window_s = 1e9;  ///< after a loss, re-acquire from 3 dots this long (any loss)
   EskfParams eskf{};              ///< head-motion model of the eskf filter
+  /// The guard (eskf): a filtered pose whose squared Mahalanobis distance
+  /// from the frame's measurement, under the measurement's covariance,
+  /// exceeds this hands the measurement through (guard(), eskf.hpp). 100:
+  /// the eskf's own manoeuvre bound (EskfParams::manoeuvre_chi2), for the
+  /// same reason: 8-px cells' errors are not Gaussian, and at chi-square's
+  /// 99.9 % (22.5) the guard handed through ordinary quantisation errors
+  /// (tuning seeds: seated, thesis, 8-px, 0.72 -> 0.90 of raw LM's RMS).
+  double guard_chi2 = 100.0;
   /// Pixel noise variance (px^2) for the eskf's measurement covariance:
   /// 0 estimates it from the residuals (PixelNoiseEstimator).
   double pixel_variance = 0.0;
@@ -124,9 +146,39 @@ class DotTracker {
 
  private:
   struct Hypothesis;
+  struct FrameContext;
   TrackResult process_lm(const DotFrame& frame);
+  // The steps of process_lm, in order.
+  /// Follows every hypothesis into this frame; true when one was.
+  bool follow_hypotheses(const FrameContext& c);
+  /// One hypothesis from its own prediction (the eskf's for the output's).
+  bool follow(Hypothesis& h, const FrameContext& c);
+  /// Four dots every hypothesis explains only three of, or none: acquire;
+  /// after a loss, three dots re-acquire.
+  void acquire(const FrameContext& c);
+  /// Drops rivals clearly worse than the best, or worse once the contest has run.
+  void prune_rivals();
+  /// The hypothesis given out, if any (learns the pixel noise and the camera).
+  const Hypothesis* choose_output(const FrameContext& c);
+  /// Sets r from the hypothesis given out; restarts the eskf on a relabelling.
+  void give_out(TrackResult& r, const Hypothesis& best);
+  // Their parts.
+  [[nodiscard]] std::optional<std::pair<Pose, double>> fit_labelling(const Labelling& l, const Pose& pred,
+                                                                     const FrameContext& c) const;
+  [[nodiscard]] static double off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread);
+  /// A 4-dot labelling that fits worse than the noise: the three of its dots
+  /// (or the four) whose pose is nearest the prediction.
+  void drop_stray(std::optional<Labelling>& lab, std::optional<std::pair<Pose, double>>& got, const Pose& pred,
+                  const std::optional<Mat6>& spread, const FrameContext& c) const;
+  /// A 3-dot pose: the P3P root most likely given the prediction (pose is
+  /// set to it); true when a rival root is about as likely.
+  bool choose_root(const Labelling& lab, Pose& pose, const Pose& pred, const Mat6& spread) const;
+  [[nodiscard]] bool rival_about_as_likely(const Hypothesis& best, const FrameContext& c) const;
   TrackResult process_thesis(const DotFrame& frame);
   TrackResult finish(TrackResult r, const DotFrame& frame);
+  /// A frame not tracked: the predicted pose while it stays near the last
+  /// tracked one (TrackerConfig::predict_reach_rad), else nothing (held).
+  void predict_output(TrackResult& r);
   /// After a loss, with the eskf's last state: the explanation of the dots
   /// (dot_evidence.hpp) 100 : 1 more likely than any pose more than 20 deg
   /// from it, given that state carried across the gap; nullopt when none is.
@@ -175,9 +227,10 @@ class DotTracker {
 
   PixelNoiseEstimator pixel_noise_;
   CameraBehaviour camera_stats_;
+  PoseDistribution head_poses_;  ///< where the head usually is (re-acquisition after a long loss)
   long noise_samples_ = 0;  ///< 4-dot fits the pixel noise estimate has seen
   ConstantVelocity cv_;
-  std::optional<Pose> last_output_;
+  std::optional<Pose> last_output_;  ///< the last pose given out as tracked
   std::optional<Pose> last_raw_;
   double last_solve_t_ = -1e300;
 };

@@ -4,10 +4,12 @@
 //
 // A planar beacon seen small has two poses that fit one frame almost
 // equally well (the tag tilted towards or away from the line of sight). On
-// acquisition both are followed, each from its own prediction, until one's
-// accumulated reprojection error is clearly lower or the contest has run
-// for `disambiguation_frames`; the output never switches between them while
-// tracking.
+// acquisition both are followed, each from its own prediction. The output
+// keeps the branch it gave out while tracking and switches only when the
+// rival explains the corners 100 : 1 better (their summed squared
+// residuals over the pixel variance: a sequential probability ratio test);
+// a rival goes once the evidence is 100 : 1 against it, or after three
+// times `disambiguation_frames` without a decision.
 #pragma once
 
 #include <vector>
@@ -24,18 +26,24 @@ class LabelledTracker {
   /// slot that holds a dot while tracking.
   TrackResult process(const DotFrame& frame);
   void reset();
+  /// The eskf filter (its last step feeds the offline smoother).
+  [[nodiscard]] const PoseEskf& eskf() const { return eskf_; }
 
  private:
   struct Hypothesis {
     Pose pose;
     ConstantVelocity cv;
     double cost_sum = 0.0;
+    double ssr_sum = 0.0;  ///< squared residuals over every corner it explained (px^2)
     int frames = 0;
     long id = 0;
     double rms = 0.0;
     bool seen = false;  ///< solved in this frame
   };
   bool fits(const Pose& p, const LabelledDots& dots, double& rms) const;
+  /// The branch given out: the one given out last frame unless a rival is
+  /// 100 : 1 more likely; drops rivals the evidence has ruled out.
+  const Hypothesis* choose_branch();
   TrackResult finish(TrackResult r, const LabelledDots& dots);
 
   Camera cam_;

@@ -36,8 +36,9 @@ is a linear program, alone and under ILD bounds: |ILD error| <= 1.5 dB everywher
 |ILD error| <= the outside decoder's at each direction (its rendered error, from the CSV's
 "outside MagLS (spaudiopy)" rows), strictly and with 0.05 dB of tie. (|E/H - 1| rather than
 |dB|: the relative error keeps the program linear; 0.1 is about 0.4 dB.) No decoder can
-meet those ILD bounds with a smaller mean level error than the program's; ambi_cues
-prints each decoder's own mean |E/H - 1| beside it.
+meet those ILD bounds with a smaller mean level error than the program's ("none": no
+decoder meets them with every ear's level above H / 10, i.e. not 10 dB quieter anywhere);
+ambi_cues prints each decoder's own mean |E/H - 1| beside it.
 Exit code 2 with a one-line message on bad input.
 """
 import argparse
@@ -120,10 +121,13 @@ def level_bound(phi, H, order, ild_bound_db=None):
     n, J = B.shape[1], len(phi)
     Z, ZJ, I = 0 * B, np.zeros((J, J)), np.eye(J)
     zd = np.zeros((len(Bd), 2 * J))
+    # E >= 0 on a fine grid, and at the directions E >= H / 10: a decoder silent at a
+    # direction (E = 0) would meet any ILD bound as 0 <= r x 0.
     rows = [np.hstack([-Bd, 0 * Bd, zd]), np.hstack([0 * Bd, -Bd, zd]),
+            np.hstack([-B / H[:, :1], Z, ZJ, ZJ]), np.hstack([Z, -B / H[:, 1:], ZJ, ZJ]),
             np.hstack([B / H[:, :1], Z, -I, ZJ]), np.hstack([-B / H[:, :1], Z, -I, ZJ]),
             np.hstack([Z, B / H[:, 1:], ZJ, -I]), np.hstack([Z, -B / H[:, 1:], ZJ, -I])]
-    b = [np.zeros(2 * len(Bd)), np.ones(J), -np.ones(J), np.ones(J), -np.ones(J)]
+    b = [np.zeros(2 * len(Bd)), np.full(J, -0.1), np.full(J, -0.1), np.ones(J), -np.ones(J), np.ones(J), -np.ones(J)]
     if ild_bound_db is not None:
         ild = 10 * np.log10(H[:, 0] / H[:, 1])
         rp, rm = 10 ** ((ild + ild_bound_db) / 10), 10 ** ((ild - ild_bound_db) / 10)
@@ -168,7 +172,8 @@ def main():
             o = np.abs(np.array([out[float(r["azimuth_deg"])] for r in rows]) - ild)
             cells += [level_bound(phi, H, order, np.minimum(1.5, o + 0.05)),
                       level_bound(phi, H, order, np.minimum(1.5, np.maximum(o, 1e-3)))]
-        print(f"| {order} | " + " | ".join(f"{c:.3f}" for c in cells) + " |" + " - | - |" * (len(cells) == 2))
+        print(f"| {order} | " + " | ".join("none" if np.isnan(c) else f"{c:.3f}" for c in cells) + " |" +
+              " - | - |" * (len(cells) == 2))
 
 
 if __name__ == "__main__":

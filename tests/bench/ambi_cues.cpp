@@ -11,15 +11,25 @@
 // - ambisonic: the same noise encoded as a plane wave at order N by this
 //   file's own encoder (the textbook SN3D formula on std::assoc_legendre,
 //   nothing of earshot_ambisonics) and decoded by BinauralDecoder with
-//   each design: LS, MagLS, MagLS + the diffuse-field covariance constraint,
-//   MagLS + band-energy passes (the default design);
+//   each design: LS, MagLS unweighted, shadow-weighted (each also with the
+//   diffuse-field covariance constraint), and the default: shadow-weighted
+//   MagLS with the joint fit of the two ears;
 // - outside (with --outside-python): spaudiopy's MagLS decoder, run by
 //   tools/ambi_outside_decoder.py in this run on the same noise, encoded and
 //   decoded entirely by spaudiopy; its encoding gains are also checked
 //   against this file's encoder.
 // Each rendering is measured by tests/analysis: the ITD below 1.5 kHz
 // (cross-correlation peak, sub-sample) and the broadband ILD, after the
-// filters' onset. Errors are against the direct rendering.
+// filters' onset. Errors are against the direct rendering. Per design and
+// order also, from the filters (a plane wave's response sum_c Y_c h_c
+// against the measured filter, magnitudes): the mean band error (|dB| of
+// the standard third-octave band energies, 100 Hz to 16 kHz bands, both
+// ears; over the horizontal measurements, and over every measurement
+// weighted by its share of the sphere) and each ear's broadband level error
+// at the horizontal measurements (mean and largest |dB|, and the mean of
+// |E/H - 1|, what tools/ambi_ild_bound.py --sofa bounds); and against the
+// outside decoder, at how many directions the ILD is at least as close to
+// the direct rendering's (strictly, and within 0.05 dB).
 // Also: the head turned by a wave's angle (SceneRotator) must bring it
 // ahead (ILD and ITD against the direct frontal rendering); and the click
 // test: a 500 Hz tone plane wave ahead, the head yawing at 360 deg/s, pose
@@ -201,6 +211,73 @@ struct Design {
   ambi::DecoderDesign design;
 };
 
+/// Spectral errors of decoder filters against the set's measured filters
+/// (see the top of this file).
+struct Spectra {
+  double band_horizontal_db = 0, band_sphere_db = 0, level_mean_db = 0, level_max_db = 0, level_relative = 0;
+};
+
+Spectra spectral_errors(const hrtf::HrtfSet& set, const ambi::DecoderFilters& f) {
+  const std::size_t n = 2 * std::max(f.length, set.filter_length()), bins = n / 2 + 1;
+  const double bin_hz = set.sample_rate() / double(n);
+  std::vector<std::size_t> edges;  // standard third octaves: centres 100 Hz .. 16 kHz
+  for (int k = -10; k <= 13; ++k)
+    edges.push_back(std::min(bins, std::size_t(std::ceil(1000.0 * std::pow(2.0, (2.0 * k - 1.0) / 6.0) / bin_hz))));
+  const std::vector<double> w = ambi::sphere_quadrature(set);
+  audio::RealFft fft(n);
+  std::vector<float> x(n);
+  std::vector<std::complex<float>> X(bins);
+  std::vector<double> pd(bins), pr(bins);
+  Spectra out;
+  double wsum = 0.0;
+  int horizontal = 0;
+  for (std::size_t q = 0; q < set.measurement_count(); ++q) {
+    const auto dir = set.direction(q);
+    const auto y = textbook_sn3d(f.order, dir.azimuth, dir.elevation);
+    const bool level = std::abs(dir.elevation) < 1e-6;
+    double band_sum = 0.0;
+    int band_count = 0;
+    for (std::size_t e = 0; e < 2; ++e) {
+      std::fill(x.begin(), x.end(), 0.0f);
+      for (std::size_t c = 0; c < f.channels(); ++c) {
+        const auto h = f.filter(e, c);
+        for (std::size_t i = 0; i < f.length; ++i) x[i] += float(y[c]) * h[i];
+      }
+      fft.forward(x, X);
+      for (std::size_t k = 0; k < bins; ++k) pd[k] = std::norm(X[k]);
+      std::fill(x.begin(), x.end(), 0.0f);
+      const auto m = set.filter(q, static_cast<hrtf::Ear>(e));
+      std::copy(m.begin(), m.end(), x.begin());
+      fft.forward(x, X);
+      for (std::size_t k = 0; k < bins; ++k) pr[k] = std::norm(X[k]);
+      for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
+        if (edges[b + 1] <= edges[b]) continue;
+        double a = 0, r = 0;
+        for (std::size_t k = edges[b]; k < edges[b + 1]; ++k) a += pd[k], r += pr[k];
+        band_sum += std::abs(10 * std::log10(a / r));
+        ++band_count;
+      }
+      if (level) {
+        double a = 0, r = 0;
+        for (std::size_t k = 0; k < bins; ++k) a += pd[k], r += pr[k];
+        const double l = std::abs(10 * std::log10(a / r));
+        out.level_mean_db += l;
+        out.level_relative += std::abs(a / r - 1.0);
+        out.level_max_db = std::max(out.level_max_db, l);
+      }
+    }
+    const double band = band_sum / band_count;
+    out.band_sphere_db += w[q] * band;
+    wsum += w[q];
+    if (level) out.band_horizontal_db += band, ++horizontal;
+  }
+  out.band_sphere_db /= wsum;
+  out.band_horizontal_db /= std::max(1, horizontal);
+  out.level_mean_db /= std::max(1, 2 * horizontal);
+  out.level_relative /= std::max(1, 2 * horizontal);
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -294,34 +371,38 @@ int main(int argc, char** argv) {
       d.method = ambi::DecoderMethod::ls;
       designs.push_back({"LS", d});
       d = {};
+      d.joint_ear_fit = false;
       d.shadow_weighting = false;
       designs.push_back({"MagLS, unweighted", d});
       d.diffuse_covariance = true;
       designs.push_back({"MagLS, unweighted + covariance", d});
       d = {};
-      designs.push_back({"MagLS (default: shadow weighting)", d});
+      d.joint_ear_fit = false;
+      designs.push_back({"MagLS shadow-weighted (v1 default)", d});
       d.diffuse_covariance = true;
       designs.push_back({"MagLS shadow-weighted + covariance", d});
+      designs.push_back({"MagLS + joint ear fit (default)", ambi::DecoderDesign{}});
     }
-    const std::string kDefault = "MagLS (default: shadow weighting)";
+    const std::string kDefault = "MagLS + joint ear fit (default)";
 
     struct Row {
       std::string decoder;
       int order;
       std::vector<Cues> cues;
+      std::optional<Spectra> spectra;
     };
     std::vector<Row> rows;
     std::map<std::pair<std::string, int>, ambi::DecoderFilters> filters;
     for (int o : orders) {
       for (const Design& d : designs) {
         auto f = ambi::design_binaural_decoder(*set, o, d.design);
-        Row row{d.name, o, {}};
+        Row row{d.name, o, {}, spectral_errors(*set, f)};
         for (double a : az) row.cues.push_back(measure(render_ambi(f, textbook_sn3d(o, a, 0.0), noise), from, to));
         rows.push_back(std::move(row));
         filters.emplace(std::make_pair(d.name, o), std::move(f));
       }
       if (outside) {
-        Row row{"outside MagLS (spaudiopy)", o, {}};
+        Row row{"outside MagLS (spaudiopy)", o, {}, std::nullopt};
         const Stereo& s = outside_out[o];
         for (std::size_t j = 0; j < az.size(); ++j) row.cues.push_back(measure(s, j * n + from, j * n + to));
         rows.push_back(std::move(row));
@@ -336,23 +417,44 @@ int main(int argc, char** argv) {
     if (outside)
       std::printf("The bench's textbook SN3D encoder vs spaudiopy's gains (converted to SN3D): largest difference %.1e.\n\n",
                   outside_gain_diff);
+    const auto outside_row = [&](int o) -> const Row* {
+      for (const Row& r : rows)
+        if (r.order == o && r.decoder.rfind("outside", 0) == 0) return &r;
+      return nullptr;
+    };
     std::printf("| decoder | order | transition (Hz) | max ITD error < 1.5 kHz (us) | max ILD error (dB) | "
-                "mean ILD error (dB) | worst ILD at (deg) |\n|---|---|---|---|---|---|---|\n");
+                "mean ILD error (dB) | worst ILD at (deg) | ILD at least as close as outside (strict / within 0.05 dB) | "
+                "mean band error, horizontal / sphere (dB) | ear level error, mean / max (dB); mean \\|E/H - 1\\| |\n"
+                "|---|---|---|---|---|---|---|---|---|---|\n");
     for (const Row& r : rows) {
       double e_itd = 0, e_ild = 0, m_ild = 0, worst_az = 0;
+      int strict = 0, tie = 0;
+      const Row* out_r = outside_row(r.order);
       for (std::size_t j = 0; j < az.size(); ++j) {
         e_itd = std::max(e_itd, std::abs(r.cues[j].itd_us - direct[j].itd_us));
         const double e = std::abs(r.cues[j].ild_db - direct[j].ild_db);
         m_ild += e / double(az.size());
         if (e > e_ild) e_ild = e, worst_az = az[j] / kDeg;
+        if (out_r) {
+          const double oe = std::abs(out_r->cues[j].ild_db - direct[j].ild_db);
+          strict += e <= oe;
+          tie += e <= oe + 0.05;
+        }
+      }
+      char close[64] = "-", spectra[64] = "-", level[64] = "-";
+      if (out_r && out_r != &r) std::snprintf(close, sizeof close, "%d / %d of %zu", strict, tie, az.size());
+      if (r.spectra) {
+        std::snprintf(spectra, sizeof spectra, "%.3f / %.3f", r.spectra->band_horizontal_db, r.spectra->band_sphere_db);
+        std::snprintf(level, sizeof level, "%.2f / %.2f; %.3f", r.spectra->level_mean_db, r.spectra->level_max_db,
+                      r.spectra->level_relative);
       }
       std::string fc = "-";
       for (const Design& d : designs)
         if (d.name == r.decoder && d.design.method == ambi::DecoderMethod::magls)
           fc = std::to_string(int(std::lround(ambi::transition_hz_for(d.design, r.order))));
       if (r.decoder.rfind("outside", 0) == 0) fc = std::to_string(600 * r.order);
-      std::printf("| %s | %d | %s | %.1f | %.2f | %.2f | %+.0f |\n", r.decoder.c_str(), r.order, fc.c_str(), e_itd,
-                  e_ild, m_ild, worst_az);
+      std::printf("| %s | %d | %s | %.1f | %.2f | %.2f | %+.0f | %s | %s | %s |\n", r.decoder.c_str(), r.order, fc.c_str(),
+                  e_itd, e_ild, m_ild, worst_az, close, spectra, level);
     }
 
     // Per direction at order 3.

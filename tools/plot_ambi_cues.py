@@ -21,7 +21,7 @@ import numpy as np  # noqa: E402
 from plot_common import fail, read_csv_rows, save_figure  # noqa: E402
 
 COLUMNS = ["series", "order", "azimuth_deg", "itd_us", "ild_db"]
-DEFAULT = "MagLS (default: shadow weighting)"
+DEFAULT = "MagLS + joint ear fit (default)"
 OUTSIDE = "outside MagLS (spaudiopy)"
 
 

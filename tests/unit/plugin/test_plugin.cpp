@@ -96,7 +96,9 @@ constexpr std::array kTableNames = {
     "esRecenter", "esGetHeadPose", "esSetHeadPose", "esRender",
     "esGetTrackerState",  // ABI 1.1 appended
     "esWorldHrtf",        // ABI 1.2 appended
-    "esGetTrackerImage"}; // ABI 1.3 appended
+    "esGetTrackerImage",  // ABI 1.3 appended
+    "",                   // ABI 1.4: esAttachTrackerEx's slot (another branch; null here)
+    "esCreateAmbisonicBuffer", "esSourceAmbisonicCallback"};  // ABI 1.5 appended
 
 TEST(PluginAbi, TableVersionAndLayout) {
   const ESproctable* t = esGetProcTable(ES_ABI_VERSION_MAJOR);
@@ -114,8 +116,11 @@ TEST(PluginAbi, TableVersionAndLayout) {
   // ABI 1.2 appends esWorldHrtf.
   EXPECT_EQ(offsetof(ESproctable, WorldHrtf), 8u + 41u * sizeof(void*));
   // ABI 1.3 appends esGetTrackerImage.
-  EXPECT_EQ(t->abi_version & 0xFFFFu, 3u);
   EXPECT_EQ(offsetof(ESproctable, GetTrackerImage), 8u + 42u * sizeof(void*));
+  // ABI 1.4's slot (esAttachTrackerEx), then 1.5's Ambisonic fields.
+  EXPECT_EQ(t->abi_version & 0xFFFFu, 5u);
+  EXPECT_EQ(offsetof(ESproctable, CreateAmbisonicBuffer), 8u + 44u * sizeof(void*));
+  EXPECT_EQ(offsetof(ESproctable, SourceAmbisonicCallback), 8u + 45u * sizeof(void*));
   EXPECT_EQ(sizeof(EStrackerimagedot), 16u) << "EStrackerimagedot changed: that is a new ABI";
   EXPECT_EQ(offsetof(EStrackerimage, time), 32u) << "EStrackerimage changed: that is a new ABI";
   EXPECT_EQ(sizeof(EStrackerimage), 104u + 160u * 120u) << "EStrackerimage changed: that is a new ABI";
@@ -144,6 +149,10 @@ TEST(PluginAbi, TableVersionAndLayout) {
   for (std::size_t i = 0; i < kTableNames.size(); ++i) {
     void* slot = nullptr;
     std::memcpy(&slot, reinterpret_cast<const char*>(t) + 8 + i * sizeof(void*), sizeof slot);
+    if (*kTableNames[i] == '\0') {
+      EXPECT_EQ(slot, nullptr) << "slot " << i;
+      continue;
+    }
     EXPECT_EQ(slot, dlsym(RTLD_DEFAULT, kTableNames[i])) << kTableNames[i];
   }
 }

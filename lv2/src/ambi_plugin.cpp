@@ -20,7 +20,9 @@
 #include <lv2/core/lv2.h>
 #include <lv2/log/log.h>
 #include <lv2/log/logger.h>
+#include <lv2/patch/patch.h>
 #include <lv2/state/state.h>
+#include <lv2/urid/urid.h>
 #include <lv2/worker/worker.h>
 
 #include <algorithm>

@@ -702,9 +702,9 @@ ES_API ESenum esSourceCallback(ESworld h, ESsource s, ESsourcecallback cb, void*
       sp.data = nullptr;
       sp.frames = 0;
     }
-    if (cb || sp.field_callback) {  // a point source again
+    if (cb) {  // a mono callback: a point source again
       sp.field_callback = nullptr;
-      sp.order = sp.data ? sp.order : 0;
+      sp.order = 0;
     }
     w.changed();
     return ES_OK;

@@ -909,7 +909,7 @@ ES_API ESenum esCreateAmbisonicBuffer(ESworld h, const float* samples, ESuint fr
       float* dst = planar.data() + c * frames;
       for (std::size_t i = 0; i < frames; ++i) dst[i] = g * samples[i * channels + from];
     }
-    const ESbuffer b = w.create_ambisonic_buffer(std::move(planar), frames, rate, N);
+    const ESbuffer b = w.create_ambisonic_buffer(std::move(planar), rate, N);
     if (b == 0) return fail(w, ES_OUT_OF_MEMORY, format("%s: max_buffers are in use", call));
     *out = b;
     return ES_OK;

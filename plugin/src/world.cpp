@@ -235,13 +235,12 @@ std::optional<World::BufferInfo> World::buffer(ESbuffer b) const {
                     buf.order};
 }
 
-ESbuffer World::create_ambisonic_buffer(std::vector<float> planar, std::size_t frames, double rate, int order) {
+ESbuffer World::create_ambisonic_buffer(std::vector<float> planar, double rate, int order) {
   reclaim_buffers();
   for (std::size_t i = 0; i < buffers_.size(); ++i) {
     Buffer& b = buffers_[i];
     if (b.alive || !b.samples.empty()) continue;
     b.samples = std::move(planar);
-    (void)frames;
     for (float& x : b.samples)
       if (!std::isfinite(x)) x = 0.0f;
     b.rate = rate;

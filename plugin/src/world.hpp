@@ -138,8 +138,8 @@ class World {
   };
   [[nodiscard]] std::optional<BufferInfo> buffer(ESbuffer b) const;
   [[nodiscard]] ESbuffer create_buffer(const float* samples, std::size_t frames, double rate);  ///< 0: full
-  /// An Ambisonic buffer: `planar` holds (order+1)^2 channels of `frames`, ambiX. 0: full.
-  [[nodiscard]] ESbuffer create_ambisonic_buffer(std::vector<float> planar, std::size_t frames, double rate, int order);
+  /// An Ambisonic buffer: `planar` holds (order+1)^2 channels one after the other, ambiX. 0: full.
+  [[nodiscard]] ESbuffer create_ambisonic_buffer(std::vector<float> planar, double rate, int order);
   /// False while a source has it set.
   bool delete_buffer(ESbuffer b);
 

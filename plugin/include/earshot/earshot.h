@@ -403,9 +403,9 @@ ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
  * absorption and reverb send do not. The field is decoded to the two ears
  * by a binaural decoder designed from the world's HRTF set for its order
  * (MagLS unless ES_AMBISONIC_DECODER says otherwise): designed once per
- * set, rate and order in a process and kept on disk (docs/AMBISONICS.md);
- * the first field of an order may take ~0.3 s in esSourcei / esSource-
- * AmbisonicCallback, later ones milliseconds. A new HRTF set (esWorldHrtf)
+ * set, rate and order in a process and kept on disk (docs/AMBISONICS.md):
+ * the esSourcei(ES_BUFFER) or esSourceAmbisonicCallback that first needs an
+ * order may take ~0.3 s, later ones (and later processes) milliseconds. A new HRTF set (esWorldHrtf)
  * fades each field to the new set's decoder as it does the point sources.
  *
  * Conventions: ambiX (ACN channel order, SN3D) is x, y, z = ahead, left, up:

@@ -23,6 +23,7 @@
 #include "earshot/geometry.hpp"
 #include "earshot/host/rooms.hpp"
 #include "earshot/host/scene_render.hpp"
+#include "earshot/scenes/field_stream.hpp"
 #include "earshot/scenes/presets.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/stop_signals.hpp"
@@ -40,6 +41,8 @@ namespace {
 
 struct DemoArgs {
   std::string scene = "circles", room, tracker = "sim", out = "earshot-demo.wav";
+  std::string ambix;         ///< an Ambisonic file played as a bed (alone unless --scene is given too)
+  bool scene_given = false;  ///< --scene was on the command line
   std::vector<std::string> hrtfs;  ///< --hrtf, repeatable: 'h' switches among them live
   double duration = -1;
   std::uint64_t seed = 1;
@@ -127,6 +130,7 @@ void run_demo(const DemoArgs& a) {
   if (want_live(a)) {
     demo::LiveOptions o;
     o.scene = a.scene, o.room = a.room, o.tracker = a.tracker, o.device = a.device, o.hrtfs = a.hrtfs;
+    o.ambix = a.ambix, o.ambix_alone = !a.scene_given;
     o.buffer = a.buffer, o.duration = a.duration, o.capture = a.capture, o.capture_poses = a.capture_poses;
     o.send = a.send;
     o.window = !a.no_window, o.screenshot = a.screenshot;
@@ -145,8 +149,10 @@ void run_demo(const DemoArgs& a) {
 }
 
 void run_offline(const DemoArgs& a) {
-  const auto scene_file = scenes::resolve_scene_argument(a.scene);
-  scenes::Scene scene = scenes::load_scene(scene_file);
+  const bool field_alone = !a.ambix.empty() && !a.scene_given;
+  const std::filesystem::path scene_file = field_alone ? std::filesystem::path(a.ambix) : scenes::resolve_scene_argument(a.scene);
+  scenes::Scene scene = field_alone ? scenes::scene_of_field(a.ambix) : scenes::load_scene(scene_file);
+  if (!a.ambix.empty() && !field_alone) scene.beds.push_back(scenes::scene_of_field(a.ambix).beds.front());
   if (!a.room.empty()) scene.room = scenes::checked_room_name(a.room, "--room");
   const double duration = a.duration > 0 ? a.duration : scene.duration_s;
   std::filesystem::path out(a.out), poses = out;
@@ -157,7 +163,8 @@ void run_offline(const DemoArgs& a) {
   if (!a.send.empty())
     std::printf("  --send: nothing is sent while rendering to a file (the tracker runs faster than real time);\n"
                 "  `earshot track live --send` sends a tracker's poses without playing\n");
-  std::printf("  scene   %s (%zu sources, room %s)\n", scene_file.c_str(), scene.sources.size(), scene.room.c_str());
+  std::printf("  scene   %s (%zu sources, %zu beds, room %s)\n", scene_file.c_str(), scene.sources.size(),
+              scene.beds.size(), scene.room.c_str());
   const TrackedHead head = track_to_file(a, duration, poses);
   std::printf("  tracker %s: %ld frames, %.1f%% tracked, head yaw %+.0f to %+.0f deg -> %s\n", a.tracker.c_str(),
               head.frames, head.frames ? 100.0 * double(head.tracked) / double(head.frames) : 0.0, head.yaw_min,
@@ -177,8 +184,12 @@ void run_offline(const DemoArgs& a) {
   std::printf("  audio   %s: %.1f s binaural at %.0f Hz, peak %.3f (HRTF %s)\n", out.c_str(),
               double(st.frames) / scene.sample_rate, scene.sample_rate, st.peak,
               a.hrtfs.empty() ? "MIT KEMAR" : a.hrtfs.front().c_str());
-  std::printf("Listen on headphones; the sources keep their places while the head turns. Replay with\n"
-              "  earshot render --scene %s --pose-track %s --out again.wav\n", a.scene.c_str(), poses.c_str());
+  if (field_alone)
+    std::printf("Listen on headphones; the sound field stays in place while the head turns. Replay with\n"
+                "  earshot render --ambix %s --pose-track %s --out again.wav\n", a.ambix.c_str(), poses.c_str());
+  else
+    std::printf("Listen on headphones; the sources keep their places while the head turns. Replay with\n"
+                "  earshot render --scene %s --pose-track %s --out again.wav\n", a.scene.c_str(), poses.c_str());
 }
 
 }  // namespace
@@ -187,8 +198,12 @@ void add_demo_command(CLI::App& app) {
   auto a = std::make_shared<DemoArgs>();
   auto* demo = app.add_subcommand("demo", "Hear a scene through a tracked head (defaults: simulated tracker, "
                                           "MIT KEMAR, Circles); renders to a WAV where it cannot play");
-  demo->add_option("--scene,-s", a->scene, "Scene JSON or a shipped preset (manual, circles, traffic, zoo, teleconference)")
-      ->capture_default_str();
+  auto* scene_option =
+      demo->add_option("--scene,-s", a->scene, "Scene JSON or a shipped preset (manual, circles, traffic, zoo, teleconference)")
+          ->capture_default_str();
+  demo->add_option("--ambix", a->ambix,
+                   "An Ambisonic file (ambiX; order from the channel count) played as a sound field around the "
+                   "tracked head: alone, or as a bed in --scene's scene");
   demo->add_option("--room", a->room, "Room preset overriding the scene's (e.g. concert-hall, none)");
   demo->add_option("--tracker", a->tracker,
                    "Head tracker: sim, replay:DOTS.csv; live also wiimote, opentrack[:PORT][@ADDR], osc[:PORT][@ADDR], none")
@@ -219,8 +234,9 @@ void add_demo_command(CLI::App& app) {
   demo->add_option("--out,-o", a->out, "WAV file written when it cannot play")->capture_default_str();
   demo->add_option("--duration", a->duration, "Seconds (default: the scene's)");
   demo->add_option("--seed", a->seed, "Seed of the simulated head's walk")->capture_default_str();
-  demo->callback([a] {
+  demo->callback([a, scene_option] {
     DemoArgs args = *a;
+    args.scene_given = scene_option->count() > 0;
     if (!args.listen.empty()) args.tracker = tracker::with_listen_address(args.tracker, args.listen, "--tracker", "--listen");
     for (const std::string& s : args.send) (void)tracker::parse_send_spec(s, "--send");  // a bad spec: an input error now
     run_demo(args);

@@ -94,7 +94,10 @@ Renderer::Renderer(std::shared_ptr<const hrtf::HrtfSet> hrtf, RendererConfig cfg
                                                          : nullptr},
                cfg) {}
 
-Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.set), cfg_(cfg) {
+Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : Renderer(hrtf, cfg, nullptr) {}
+
+Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg, std::unique_ptr<SourceBus> bus)
+    : hrtf_(hrtf.set), cfg_(cfg), bus_(std::move(bus)) {
   if (!hrtf_) throw std::invalid_argument("Renderer: no HRTF set");
   if (cfg_.block == 0) throw std::invalid_argument("Renderer: block must be > 0");
   if (!hrtf.spectra || hrtf.spectra->block() != cfg_.block ||
@@ -105,10 +108,15 @@ Renderer::Renderer(const PreparedHrtf& hrtf, RendererConfig cfg) : hrtf_(hrtf.se
   const double max_delay =
       cfg_.max_distance_m / cfg_.speed_of_sound * cfg_.sample_rate * std::max(0.0, cfg_.doppler_factor) +
       0.002 * cfg_.sample_rate + FractionalDelay::kMinDelay + 8;
-  bank_ = std::make_unique<DirectionBank>(hrtf.spectra);
-  std::vector<double> shells(hrtf_->shell_count());
-  for (std::size_t i = 0; i < shells.size(); ++i) shells[i] = hrtf_->shell(i).radius_m;
-  if (cfg_.near_field) near_field_ = NearFieldTable::shared(cfg_.sample_rate, shells);
+  if (bus_) {
+    // The tier: the bus's decoder is the HRTF; no bank, no near field.
+    if (bus_->voices() < cfg_.max_sources) throw std::invalid_argument("Renderer: the bus takes fewer voices than max_sources");
+  } else {
+    bank_ = std::make_unique<DirectionBank>(hrtf.spectra);
+    std::vector<double> shells(hrtf_->shell_count());
+    for (std::size_t i = 0; i < shells.size(); ++i) shells[i] = hrtf_->shell(i).radius_m;
+    if (cfg_.near_field) near_field_ = NearFieldTable::shared(cfg_.sample_rate, shells);
+  }
   voices_.reserve(cfg_.max_sources);
   for (std::size_t i = 0; i < cfg_.max_sources; ++i)
     voices_.push_back(std::make_unique<Voice>(cfg_.block, max_delay, cfg_.sample_rate));
@@ -180,6 +188,7 @@ int Renderer::add_source(const SourceState& s) {
   v.moved_from.reset();
   v.air.reset();
   v.delay.reset();
+  if (bus_) bus_->reset_voice(active_);
   return static_cast<int>(active_++);
 }
 
@@ -200,11 +209,20 @@ void Renderer::render(std::span<float> left, std::span<float> right) {
   std::fill(ret_l_.begin(), ret_l_.end(), 0.0f);
   std::fill(ret_r_.begin(), ret_r_.end(), 0.0f);
   std::fill(send_.begin(), send_.end(), 0.0f);
-  for (std::size_t s = 0; s < active_; ++s) {
-    prefetch_after(s);
-    render_source(*voices_[s], listener, listener_gain);
+  if (bus_) {
+    bus_->begin_block();
+    for (std::size_t s = 0; s < active_; ++s) {
+      prefetch_after(s);  // the tier never pans: only the state and the delay lines
+      render_to_bus(s, *voices_[s], listener, listener_gain);
+    }
+    bus_->mix_into(mix_l_, mix_r_);
+  } else {
+    for (std::size_t s = 0; s < active_; ++s) {
+      prefetch_after(s);
+      render_source(*voices_[s], listener, listener_gain);
+    }
+    bank_->process(mix_l_, mix_r_);
   }
-  bank_->process(mix_l_, mix_r_);
   limit(left, right);
 }
 
@@ -225,7 +243,6 @@ void Renderer::prefetch_after(std::size_t s) const {
 }
 
 void Renderer::render_source(Voice& v, const HeadPose& listener, double listener_gain) {
-  const std::size_t B = cfg_.block;
   // A relative source's position is already head-relative.
   const HeadPose& frame = v.state.relative ? kAtOrigin : listener;
   HeadFrame hr = head_frame(v.state.position, frame);
@@ -240,13 +257,7 @@ void Renderer::render_source(Voice& v, const HeadPose& listener, double listener
   hrtf::Delays d{v.recipe.delays.left_s, right_recipe.delays.right_s};
   if (v.split) d = {d.left_s + v.near->shift[0], d.right_s + v.near->shift[1]};
   const double prop = propagation_delay(v, hr, frame);
-  // OpenAL's order: source gain x distance x cone, clamped to [min, max],
-  // then the listener's gain.
-  const Vec3& sp = v.state.position;
-  const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
-  const double attenuated =
-      v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
-  const double g = std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener_gain;
+  const double g = source_gain(v, hr, frame, listener_gain);
   const double g0 = v.gain < 0.0 ? g : v.gain;
   v.gain = g;
 
@@ -263,11 +274,49 @@ void Renderer::render_source(Voice& v, const HeadPose& listener, double listener
   v.ear_delay = to;
   if (near || v.near->filter_l.active() || v.near->filter_r.active()) near_field_level(v, hr);
   pan(v, v.recipe, right_recipe, g);
+  add_send(v, g0, g);
+}
+
+// OpenAL's order: source gain x distance x cone, clamped to [min, max],
+// then the listener's gain.
+double Renderer::source_gain(const Voice& v, const HeadFrame& hr, const HeadPose& frame, double listener_gain) const {
+  const Vec3& sp = v.state.position;
+  const Vec3 to_listener{frame.position[0] - sp[0], frame.position[1] - sp[1], frame.position[2] - sp[2]};
+  const double attenuated =
+      v.state.gain * distance_gain(hr.distance, v.state.distance) * cone_gain(to_listener, v.state.cone);
+  return std::clamp(attenuated, v.state.min_gain, std::max(v.state.min_gain, v.state.max_gain)) * listener_gain;
+}
+
+// The reverb send, the gain ramped across the block as the direct sound's.
+void Renderer::add_send(const Voice& v, double g0, double g) {
+  const std::size_t B = cfg_.block;
   const auto send = static_cast<float>(v.state.reverb_send);
   if (send != 0.0f) {
     const auto gain0 = static_cast<float>(g0), gain_step = static_cast<float>((g - g0) / static_cast<double>(B));
     for (std::size_t i = 0; i < B; ++i) send_[i] += send * (gain0 + gain_step * static_cast<float>(i + 1)) * v.input[i];
   }
+}
+
+// The Ambisonic tier: the source as the direct path has it up to the HRTF
+// (distance gain, cone, air absorption, propagation delay and Doppler), one
+// delay read (no ITD: the decoder's filters carry it), then into the bus
+// from its direction as the head sees it.
+void Renderer::render_to_bus(std::size_t index, Voice& v, const HeadPose& listener, double listener_gain) {
+  const HeadPose& frame = v.state.relative ? kAtOrigin : listener;
+  HeadFrame hr = head_frame(v.state.position, frame);
+  if (hr.distance == 0.0) hr.direction = {1, 0, 0};  // at the head: as if ahead
+  const double prop = propagation_delay(v, hr, frame);
+  const double g = source_gain(v, hr, frame, listener_gain);
+  const double g0 = v.gain < 0.0 ? g : v.gain;
+  v.gain = g;
+  v.air.update(hr.distance, v.state.air_absorption);
+  v.air.process(v.input);
+  v.delay.write(v.input);
+  const double to = v.delay.clamp_delay(FractionalDelay::kMinDelay + prop);
+  v.delay.read(v.ear_l, v.ear_delay[0] < 0.0 ? to : v.ear_delay[0], to);
+  v.ear_delay = {to, to};
+  bus_->add(index, hr.direction, static_cast<float>(g), v.ear_l);
+  add_send(v, g0, g);
 }
 
 void Renderer::aim_far(Voice& v, const HeadFrame& hr) {

@@ -30,7 +30,7 @@ ESworldparams world_params(const scenes::Scene& scene, double rate, std::size_t 
   esWorldParamsDefault(&p);
   p.sample_rate = static_cast<ESuint>(rate);
   p.block_size = static_cast<ESuint>(block);
-  p.max_sources = static_cast<ESuint>(std::max<std::size_t>(1, scene.sources.size()));
+  p.max_sources = static_cast<ESuint>(std::max<std::size_t>(1, scene.sources.size() + scene.beds.size()));
   p.max_buffers = 1;
   p.doppler_factor = static_cast<ESfloat>(scene.doppler_factor);
   p.speed_of_sound = static_cast<ESfloat>(scene.speed_of_sound);
@@ -50,10 +50,17 @@ RenderStats render_scene(const scenes::Scene& scene, const RenderOptions& opt) {
   if (opt.block == 0 || opt.block > 8192) throw InputError::at("--block", 0, "", "must be 1 to 8192 frames");
   if (!(rate >= 8000 && rate <= 192000)) throw InputError::at("--rate", 0, "", "must be 8000 to 192000 Hz");
   const std::string origin = scene.origin.empty() ? "scene" : scene.origin;
-  if (scene.sources.size() > kMaxSources)
+  if (scene.sources.size() + scene.beds.size() > kMaxSources)
     throw InputError::at(origin, 0, "sources",
-                         std::to_string(scene.sources.size()) + " sources; a world renders at most " +
-                             std::to_string(kMaxSources));
+                         std::to_string(scene.sources.size() + scene.beds.size()) +
+                             " sources and beds; a world renders at most " + std::to_string(kMaxSources));
+  const std::string quality = opt.quality.value_or(scene.quality);
+  const std::optional<int> order = scenes::quality_order(quality);
+  if (!order)
+    throw InputError::at(opt.quality ? "--quality" : origin, 0, opt.quality ? "" : "quality",
+                         "unknown quality '" + quality + "' (direct, ambisonic:1 to ambisonic:7)");
+  if (opt.decoder != "magls" && opt.decoder != "ls")
+    throw InputError::at("--decoder", 0, "", "unknown decoder '" + opt.decoder + "' (magls, ls)");
   const ListenerTrack listener(scene, opt.pose_track);
 
   const std::string hrtf = opt.hrtf.string();
@@ -61,6 +68,10 @@ RenderStats render_scene(const scenes::Scene& scene, const RenderOptions& opt) {
   const ESworld w = world.id();
   // Each block's changes land together, at that block.
   world.check(esWorldi(w, ES_COMMIT_MODE, ES_DEFERRED), origin, "");
+  if (opt.decoder == "ls") world.check(esWorldi(w, ES_AMBISONIC_DECODER, ES_DECODER_LS), "--decoder", "");
+  // The tier before the first block: the world's from its first sample.
+  if (*order > 0) world.check(esWorldi(w, ES_QUALITY, ES_QUALITY_AMBISONIC(*order)), opt.quality ? "--quality" : origin,
+                              opt.quality ? "" : "quality");
   SceneSources sources(world, rate);  // destroyed before the world
   sources.load(scene);
   listener.start(world);

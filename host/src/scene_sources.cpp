@@ -24,6 +24,8 @@ SceneSources::~SceneSources() { delete_sources(); }
 void SceneSources::delete_sources() {
   for (ESsource id : ids_) (void)esDeleteSource(world_.id(), id);
   ids_.clear();
+  for (ESsource id : bed_ids_) (void)esDeleteSource(world_.id(), id);
+  bed_ids_.clear();
 }
 
 std::string SceneSources::field(std::size_t i, const char* name) const {
@@ -35,16 +37,40 @@ std::string SceneSources::field(std::size_t i, const char* name) const {
 void SceneSources::load(scenes::Scene scene) {
   std::vector<std::unique_ptr<scenes::SignalSource>> made;
   for (const auto& s : scene.sources) made.push_back(std::make_unique<scenes::SignalSource>(s.signal, rate_));
+  // Beds read ahead half a second (at least two blocks of any size).
+  std::vector<std::unique_ptr<FieldPlayer>> players;
+  for (const auto& b : scene.beds) players.push_back(std::make_unique<FieldPlayer>(b, rate_, std::size_t(rate_ / 2) + 16384));
   delete_sources();
   for (auto& old : sounds_) retired_.push_back(std::move(old));
+  for (auto& old : players_) retired_players_.push_back(std::move(old));
   sounds_ = std::move(made);
+  players_ = std::move(players);
   scene_ = std::move(scene);
   origin_ = scene_.origin.empty() ? "scene" : scene_.origin;
   const auto& L = scene_.listener.position;
   world_.check(esListener3f(world_.id(), ES_POSITION, float(L[0]), float(L[1]), float(L[2])), origin_, "listener");
   set_room(scene_.room);
   for (std::size_t i = 0; i < scene_.sources.size(); ++i) add_source(i);
+  for (std::size_t i = 0; i < scene_.beds.size(); ++i) add_bed(i);
   t0_ = -1;  // paths start again at the next move()
+}
+
+void SceneSources::add_bed(std::size_t i) {
+  const ESworld w = world_.id();
+  const scenes::SceneBed& b = scene_.beds[i];
+  const std::string f = "beds[" + std::to_string(i) + "]";
+  ESsource id = 0;
+  world_.check(esCreateSource(w, &id), origin_, f);
+  bed_ids_.push_back(id);
+  FieldPlayer& p = *players_[i];
+  // Designs (or reads) the decoder for the bed's order: the first of an order may take a moment.
+  world_.check(esSourceAmbisonicCallback(w, id, static_cast<ESuint>(p.order()), &FieldPlayer::pull, &p), origin_, f);
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  const Quat q = quat_from_ypr(b.yaw_deg * kDeg, b.pitch_deg * kDeg, b.roll_deg * kDeg);
+  const float qv[4] = {float(q[0]), float(q[1]), float(q[2]), float(q[3])};
+  world_.check(esSourcefv(w, id, ES_ORIENTATION_QUAT, qv), origin_, f + ".yaw_deg");
+  world_.check(esSourcef(w, id, ES_GAIN, db(b.gain_db)), origin_, f + ".gain_db");
+  world_.check(esSourcePlay(w, id), origin_, f);
 }
 
 void SceneSources::add_source(std::size_t i) {
@@ -80,6 +106,7 @@ void SceneSources::set_room(const std::string& room) {
 
 void SceneSources::move(double t) {
   if (t0_ < 0) t0_ = t;
+  for (auto& p : players_) p->pump();  // the beds' files, read ahead of the audio thread
   for (std::size_t i = 0; i < ids_.size(); ++i)
     if (scene_.sources[i].path) {
       // The path's position at the block's start; the renderer glides the

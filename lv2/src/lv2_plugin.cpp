@@ -35,6 +35,7 @@
 #include <numbers>
 #include <string>
 
+#include "ambi_plugin.hpp"
 #include "binaural_panner.hpp"
 #include "bypass.hpp"
 #include "head_controls.hpp"
@@ -595,5 +596,6 @@ const LV2_Descriptor kDescriptor{EARSHOT_LV2_URI, instantiate, connect_port, act
 }  // namespace earshot::lv2
 
 LV2_SYMBOL_EXPORT const LV2_Descriptor* lv2_descriptor(std::uint32_t index) {
-  return index == 0 ? &earshot::lv2::kDescriptor : nullptr;
+  if (index == 0) return &earshot::lv2::kDescriptor;
+  return earshot::lv2::ambi::descriptor(index - 1);  // the Ambisonic decoders, orders 1-5 (ambi_plugin.cpp)
 }

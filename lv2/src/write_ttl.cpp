@@ -1,4 +1,5 @@
-// Writes the bundle's turtle (manifest.ttl, earshot.ttl and presets.ttl) at
+// Writes the bundle's turtle (manifest.ttl, earshot.ttl, presets.ttl and,
+// for the Ambisonic decoders, ambi.ttl) at
 // build time, from the same tables the code uses: the room presets and
 // distance models become the enumeration ports' scale points, so the turtle
 // cannot drift from the binary. Integer and toggled ports get integer
@@ -15,6 +16,7 @@
 
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/host/distance_models.hpp"
+#include "ambi_plugin.hpp"
 #include "uris.hpp"
 
 namespace {
@@ -114,6 +116,95 @@ std::vector<Preset> presets() {
        with({{"tracking", 1}, {"tracker_source", 0}}), "webcam,beacon=apriltag,size_mm=50",
        "osc:127.0.0.1:9001,format=sparta"},
   };
+}
+
+}  // namespace
+
+namespace {
+
+/// The Ambisonic decoders (ambi_plugin.hpp): one plugin per order in
+/// ambi.ttl, listed in the manifest. Ports: the (N+1)^2 inputs in ACN order,
+/// then ambi::Port's.
+bool write_ambi_ttl(const std::string& dir, const std::string& library, std::ostream& manifest) {
+  namespace ambi = earshot::lv2::ambi;
+  std::ofstream o(dir + "/ambi.ttl");
+  o << kPrefixes << "\n";
+  o << "<" << ambi::kTrackerParameter << ">\n\ta lv2:Parameter ;\n\trdfs:label \"Tracker spec\" ;\n"
+       "\trdfs:comment \"A full tracker spec (wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT], with @ADDR to "
+       "listen beyond 127.0.0.1); empty: the tracker_source port decides.\" ;\n"
+       "\trdfs:range atom:String .\n\n";
+  const std::string toggle = "\t\t\tlv2:portProperty lv2:toggled ;\n";
+  const std::string sources =
+      "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label \"wiimote\" ; "
+      "rdf:value 0 ] , [ rdfs:label \"sim\" ; rdf:value 1 ] , [ rdfs:label \"opentrack\" ; rdf:value 2 ] , "
+      "[ rdfs:label \"osc\" ; rdf:value 3 ] ;\n";
+  const std::string trigger = "\t\t\tlv2:portProperty lv2:toggled , pprops:trigger ;\n";
+  const std::string latency = "\t\t\tlv2:designation lv2:latency ;\n\t\t\tlv2:portProperty lv2:reportsLatency , "
+                              "lv2:integer ;\n";
+  for (int order = 1; order <= ambi::kOrders; ++order) {
+    const std::string uri = EARSHOT_LV2_AMBI_URI_PREFIX + std::to_string(order);
+    const int channels = (order + 1) * (order + 1);
+    manifest << "\n<" << uri << ">\n\ta lv2:Plugin ;\n\tlv2:binary <" << library << "> ;\n\trdfs:seeAlso <ambi.ttl> .\n";
+    o << "<" << uri << ">\n\ta lv2:Plugin , lv2:SpatialPlugin ;\n"
+      << "\tdoap:name \"Earshot Ambisonic binaural decoder, order " << order << "\" ;\n"
+      << "\tdoap:license <https://opensource.org/licenses/MIT> ;\n\tlv2:minorVersion 1 ;\n\tlv2:microVersion 0 ;\n"
+      << "\trdfs:comment \"An order-" << order << " Ambisonic signal (" << channels
+      << " inputs, ambiX: ACN channel order, SN3D; x, y, z = ahead, left, up) to two ears for a head-tracked "
+         "listener: the field turned by the head (SH rotation, glided across each block), then a MagLS binaural "
+         "decoder designed from MIT KEMAR. The head from a Wii Remote, opentrack, OSC or the simulator, shared with "
+         "every Earshot plugin in the process.\" ;\n"
+      << "\tlv2:optionalFeature lv2:hardRTCapable , urid:map , work:schedule , log:log ;\n"
+      << "\tlv2:extensionData work:interface , state:interface ;\n"
+      << "\tpatch:writable <" << ambi::kTrackerParameter << "> ;\n\tlv2:port\n";
+    int index = 0;
+    for (int c = 0; c < channels; ++c, ++index) {
+      const int l = static_cast<int>(std::sqrt(static_cast<double>(c)) + 1e-9), m = c - l * l - l;
+      o << "\t\t[\n\t\t\ta lv2:InputPort , lv2:AudioPort ;\n\t\t\tlv2:index " << index << " ;\n"
+        << "\t\t\tlv2:symbol \"acn" << c << "\" ;\n\t\t\tlv2:name \"ACN " << c << " (l " << l << ", m " << m << ")\" ;\n\t\t] ,\n";
+    }
+    const auto audio_out = [&](const char* symbol, const char* name) {
+      o << "\t\t[\n\t\t\ta lv2:OutputPort , lv2:AudioPort ;\n\t\t\tlv2:index " << index << " ;\n"
+        << "\t\t\tlv2:symbol \"" << symbol << "\" ;\n\t\t\tlv2:name \"" << name << "\" ;\n\t\t] ,\n";
+      ++index;
+    };
+    const auto atom = [&](bool input, const char* symbol, const char* name) {
+      o << "\t\t[\n\t\t\ta lv2:" << (input ? "InputPort" : "OutputPort")
+        << " , atom:AtomPort ;\n\t\t\tatom:bufferType atom:Sequence ;\n"
+        << "\t\t\tatom:supports patch:Message ;\n\t\t\tlv2:designation lv2:control ;\n"
+        << "\t\t\tlv2:portProperty lv2:connectionOptional ;\n\t\t\tlv2:index " << index << " ;\n"
+        << "\t\t\tlv2:symbol \"" << symbol << "\" ;\n\t\t\tlv2:name \"" << name << "\" ;\n\t\t] ,\n";
+      ++index;
+    };
+    audio_out("out_left", "Left");
+    audio_out("out_right", "Right");
+    atom(true, "control", "Control");
+    atom(false, "notify", "Notify");
+    const Control inputs[] = {
+        {"tracking", "Head tracking", 0, 0, 1, nullptr, toggle.c_str()},
+        {"tracker_source", "Tracker", 0, 0, 3, nullptr, sources.c_str()},
+        {"recenter", "Recenter", 0, 0, 1, nullptr, trigger.c_str()},
+        {"yaw_offset", "Yaw offset (positive left)", 0, -180, 180, "degree", ""},
+        {"pitch_offset", "Pitch offset (positive up)", 0, -90, 90, "degree", ""},
+        {"roll_offset", "Roll offset (positive right)", 0, -180, 180, "degree", ""},
+    };
+    for (const auto& c : inputs) {
+      control_port(o, index++, c);
+      o << " ,\n";
+    }
+    control_port(o, index++, {"latency", "Latency", 0, 0, 8192, "frame", latency.c_str()}, true);
+    o << " ,\n";
+    control_port(o, index++, {"head_yaw", "Head yaw", 0, -180, 180, "degree", ""}, true);
+    o << " ,\n";
+    control_port(o, index++, {"head_pitch", "Head pitch", 0, -90, 90, "degree", ""}, true);
+    o << " ,\n";
+    control_port(o, index++, {"head_roll", "Head roll", 0, -180, 180, "degree", ""}, true);
+    o << " .\n\n";
+    if (index != channels + static_cast<int>(ambi::kPortsAfterInputs)) {
+      std::cerr << "earshot_lv2_ttl: the Ambisonic ports written do not match ambi_plugin.hpp\n";
+      return false;
+    }
+  }
+  return static_cast<bool>(o);
 }
 
 }  // namespace
@@ -257,7 +348,8 @@ int main(int argc, char** argv) {
     control_port(o, index++, appended[i]);
     o << (i + 1 < std::size(appended) ? " ,\n" : " .\n");
   }
-  if (!o || !manifest || !pset) {
+  const bool ambi_ok = write_ambi_ttl(dir, library, manifest);
+  if (!o || !manifest || !pset || !ambi_ok) {
     std::cerr << "earshot_lv2_ttl: cannot write the turtle into " << dir << "\n";
     return 1;
   }

@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "earshot/audio/ambisonics/spherical_harmonics.hpp"
 #include "earshot/audio/room_presets.hpp"
 #include "earshot/earshot.h"
 #include "earshot/errors.hpp"
@@ -341,6 +342,20 @@ ES_API ESenum esWorldi(ESworld h, ESenum param, ESint value) {
       w.set_head_prediction(w.head_prediction(), static_cast<double>(value) * 1e-6);
       return ES_OK;
     }
+    if (param == ES_QUALITY) {
+      const ESint order = value - ES_QUALITY_DIRECT;  // 0 direct, N ambisonic:N
+      if (order < 0 || order > ES_MAX_AMBISONIC_ORDER)
+        return fail(w, ES_INVALID_VALUE, "esWorldi: ES_QUALITY takes ES_QUALITY_DIRECT or ES_QUALITY_AMBISONIC(1..7)");
+      w.set_quality(order);  // Failure names a set that cannot carry the order
+      return ES_OK;
+    }
+    if (param == ES_AMBISONIC_DECODER) {
+      if (value != ES_DECODER_MAGLS && value != ES_DECODER_LS)
+        return fail(w, ES_INVALID_VALUE, "esWorldi: ES_AMBISONIC_DECODER takes ES_DECODER_MAGLS or ES_DECODER_LS");
+      w.set_decoder_method(value == ES_DECODER_LS ? earshot::ambisonics::DecoderMethod::ls
+                                                  : earshot::ambisonics::DecoderMethod::magls);
+      return ES_OK;
+    }
     if (param != ES_COMMIT_MODE) return bad_enum(w, "esWorldi", param);
     if (value != ES_IMMEDIATE && value != ES_DEFERRED)
       return fail(w, ES_INVALID_VALUE, "esWorldi: ES_COMMIT_MODE takes ES_IMMEDIATE or ES_DEFERRED");
@@ -364,6 +379,10 @@ ES_API ESenum esGetWorldi(ESworld h, ESenum param, ESint* value) {
         return ES_OK;
       case ES_HEAD_PREDICTION: *value = w.head_prediction() ? ES_TRUE : ES_FALSE; return ES_OK;
       case ES_OUTPUT_LATENCY_US: *value = static_cast<ESint>(std::lround(w.host_latency_s() * 1e6)); return ES_OK;
+      case ES_QUALITY: *value = ES_QUALITY_DIRECT + w.quality(); return ES_OK;
+      case ES_AMBISONIC_DECODER:
+        *value = w.decoder_method() == earshot::ambisonics::DecoderMethod::ls ? ES_DECODER_LS : ES_DECODER_MAGLS;
+        return ES_OK;
       default: return bad_enum(w, "esGetWorldi", param);
     }
   });
@@ -534,6 +553,14 @@ ES_API ESenum esSourcefv(ESworld h, ESsource s, ESenum param, const ESfloat* v) 
       case ES_CONE_OUTER_GAIN: check_range("ES_CONE_OUTER_GAIN", x, 0.0, 1.0); st.cone.outer_gain = x; break;
       case ES_REVERB_SEND: check_range("ES_REVERB_SEND", x, 0.0, 10.0); st.reverb_send = x; break;
       case ES_AIR_ABSORPTION_FACTOR: check_range("ES_AIR_ABSORPTION_FACTOR", x, 0.0, 10.0); st.air_absorption = x; break;
+      case ES_ORIENTATION: {  // a field's orientation (ABI 1.5)
+        const double f[6] = {v[0], v[1], v[2], v[3], v[4], v[5]};
+        if (!finite({f[0], f[1], f[2], f[3], f[4], f[5]}))
+          return fail(w, ES_INVALID_VALUE, "esSourcefv: ES_ORIENTATION must be finite");
+        sp.orientation = quat_from_at_up6(f);
+        break;
+      }
+      case ES_ORIENTATION_QUAT: sp.orientation = normalised_quat(v); break;
       default: return bad_enum(w, "esSourcefv", param);
     }
     w.changed();
@@ -542,7 +569,8 @@ ES_API ESenum esSourcefv(ESworld h, ESsource s, ESenum param, const ESfloat* v) 
 }
 
 ES_API ESenum esSourcef(ESworld h, ESsource s, ESenum param, ESfloat value) {
-  if (param == ES_POSITION || param == ES_VELOCITY || param == ES_DIRECTION)
+  if (param == ES_POSITION || param == ES_VELOCITY || param == ES_DIRECTION || param == ES_ORIENTATION ||
+      param == ES_ORIENTATION_QUAT)
     return with_source(h, s, "esSourcef", [&](World& w, SourceParams&, std::size_t) { return bad_enum(w, "esSourcef", param); });
   return esSourcefv(h, s, param, &value);
 }
@@ -578,10 +606,14 @@ ES_API ESenum esSourcei(ESworld h, ESsource s, ESenum param, ESint value) {
           sp.buffer = 0;
           sp.data = nullptr;
           sp.frames = 0;
+          if (!sp.field_callback) sp.order = 0;
           break;
         }
         const auto info = w.buffer(b);
         if (!info) return fail(w, ES_INVALID_BUFFER, format("esSourcei: 0x%08x is not a buffer of this world", b));
+        w.prepare_bed(slot, info->order);  // a field's decoder (may design it: throws, nothing changed)
+        sp.order = info->order;
+        sp.field_callback = nullptr;
         sp.buffer = b;
         sp.data = info->data;
         sp.frames = info->frames;
@@ -622,6 +654,19 @@ ES_API ESenum esGetSourcefv(ESworld h, ESsource s, ESenum param, ESfloat* v) {
       case ES_REVERB_SEND: x = st.reverb_send; break;
       case ES_AIR_ABSORPTION_FACTOR: x = st.air_absorption; break;
       case ES_SAMPLE_OFFSET: x = w.source_offset(slot); break;
+      case ES_ORIENTATION_QUAT: {
+        const Quat& q = sp.orientation;
+        for (int i = 0; i < 4; ++i) v[i] = static_cast<ESfloat>(q[static_cast<std::size_t>(i)]);
+        return ES_OK;
+      }
+      case ES_ORIENTATION: {  // at = R (0, 0, -1), up = R (0, 1, 0)
+        const Vec3 at = earshot::rotate(sp.orientation, Vec3{0, 0, -1}), up = earshot::rotate(sp.orientation, Vec3{0, 1, 0});
+        for (int i = 0; i < 3; ++i) {
+          v[i] = static_cast<ESfloat>(at[static_cast<std::size_t>(i)]);
+          v[i + 3] = static_cast<ESfloat>(up[static_cast<std::size_t>(i)]);
+        }
+        return ES_OK;
+      }
       default: return bad_enum(w, "esGetSourcefv", param);
     }
     v[0] = static_cast<ESfloat>(x);
@@ -630,7 +675,8 @@ ES_API ESenum esGetSourcefv(ESworld h, ESsource s, ESenum param, ESfloat* v) {
 }
 
 ES_API ESenum esGetSourcef(ESworld h, ESsource s, ESenum param, ESfloat* value) {
-  if (param == ES_POSITION || param == ES_VELOCITY || param == ES_DIRECTION)
+  if (param == ES_POSITION || param == ES_VELOCITY || param == ES_DIRECTION || param == ES_ORIENTATION ||
+      param == ES_ORIENTATION_QUAT)
     return with_source(h, s, "esGetSourcef", [&](World& w, SourceParams&, std::size_t) { return bad_enum(w, "esGetSourcef", param); });
   return esGetSourcefv(h, s, param, value);
 }
@@ -645,6 +691,7 @@ ES_API ESenum esGetSourcei(ESworld h, ESsource s, ESenum param, ESint* value) {
       case ES_BUFFER: *value = static_cast<ESint>(sp.buffer); return ES_OK;
       case ES_SOURCE_STATE: *value = w.source_state(slot); return ES_OK;
       case ES_SAMPLE_OFFSET: *value = static_cast<ESint>(w.source_offset(slot)); return ES_OK;
+      case ES_AMBISONIC_ORDER: *value = sp.order; return ES_OK;
       default: return bad_enum(w, "esGetSourcei", param);
     }
   });
@@ -658,6 +705,10 @@ ES_API ESenum esSourceCallback(ESworld h, ESsource s, ESsourcecallback cb, void*
       sp.buffer = 0;
       sp.data = nullptr;
       sp.frames = 0;
+    }
+    if (cb) {  // a mono callback: a point source again
+      sp.field_callback = nullptr;
+      sp.order = 0;
     }
     w.changed();
     return ES_OK;
@@ -846,6 +897,71 @@ ES_API ESenum esRender(ESworld h, float* left, float* right, ESuint frames) {
   return ES_OK;
 }
 
+// ---- Ambisonic fields (ABI 1.5) ----
+
+ES_API ESenum esCreateAmbisonicBuffer(ESworld h, const float* samples, ESuint frames, ESuint rate, ESuint order,
+                                      ESenum layout, ESenum scaling, ESbuffer* out) {
+  return control(h, "esCreateAmbisonicBuffer", [&](World& w) -> ESenum {
+    constexpr const char* call = "esCreateAmbisonicBuffer";
+    if (!out) return fail(w, ES_INVALID_VALUE, format("%s: buffer is NULL", call));
+    *out = 0;
+    if (order < 1 || order > ES_MAX_AMBISONIC_ORDER)
+      return fail(w, ES_INVALID_VALUE, format("%s: order %u (1 to %d)", call, order, ES_MAX_AMBISONIC_ORDER));
+    if (layout != ES_AMBISONIC_LAYOUT_ACN && layout != ES_AMBISONIC_LAYOUT_FUMA)
+      return fail(w, ES_INVALID_VALUE, format("%s: layout 0x%x (ES_AMBISONIC_LAYOUT_ACN or _FUMA)", call, unsigned(layout)));
+    if (scaling != ES_AMBISONIC_SCALING_SN3D && scaling != ES_AMBISONIC_SCALING_N3D && scaling != ES_AMBISONIC_SCALING_FUMA)
+      return fail(w, ES_INVALID_VALUE,
+                  format("%s: scaling 0x%x (ES_AMBISONIC_SCALING_SN3D, _N3D or _FUMA)", call, unsigned(scaling)));
+    if ((layout == ES_AMBISONIC_LAYOUT_FUMA || scaling == ES_AMBISONIC_SCALING_FUMA) && order > 3)
+      return fail(w, ES_INVALID_VALUE, format("%s: FuMa stops at order 3 (order %u)", call, order));
+    const std::size_t channels = std::size_t(order + 1) * std::size_t(order + 1);
+    if (!samples) return fail(w, ES_INVALID_VALUE, format("%s: samples is NULL", call));
+    if (frames == 0 || std::size_t(frames) * channels > (std::size_t{1} << 28))
+      return fail(w, ES_INVALID_VALUE, format("%s: %u frames of %zu channels (1 to 2^28 samples)", call, frames, channels));
+    if (rate < 1000 || rate > 768000)
+      return fail(w, ES_INVALID_VALUE, format("%s: sample rate %u Hz (1000 to 768000)", call, rate));
+    // ambiX channel n = gain[n] x the caller's channel source[n]: the
+    // layout says where channel n is, the scaling how loud.
+    namespace ambi = earshot::ambisonics;
+    const int N = static_cast<int>(order);
+    const ambi::ChannelMap where =
+        ambi::to_ambix(layout == ES_AMBISONIC_LAYOUT_FUMA ? ambi::Convention::fuma : ambi::Convention::ambix, N);
+    const ambi::ChannelMap loud = ambi::to_ambix(scaling == ES_AMBISONIC_SCALING_FUMA  ? ambi::Convention::fuma
+                                                 : scaling == ES_AMBISONIC_SCALING_N3D ? ambi::Convention::n3d
+                                                                                       : ambi::Convention::ambix,
+                                                 N);
+    std::vector<float> planar(channels * frames);
+    for (std::size_t c = 0; c < channels; ++c) {
+      const std::size_t from = where.source[c];
+      const auto g = static_cast<float>(loud.gain[c]);
+      float* dst = planar.data() + c * frames;
+      for (std::size_t i = 0; i < frames; ++i) dst[i] = g * samples[i * channels + from];
+    }
+    const ESbuffer b = w.create_ambisonic_buffer(std::move(planar), rate, N);
+    if (b == 0) return fail(w, ES_OUT_OF_MEMORY, format("%s: max_buffers are in use", call));
+    *out = b;
+    return ES_OK;
+  });
+}
+
+ES_API ESenum esSourceAmbisonicCallback(ESworld h, ESsource s, ESuint order, ESambisoniccallback cb, void* user) {
+  return with_source(h, s, "esSourceAmbisonicCallback", [&](World& w, SourceParams& sp, std::size_t slot) -> ESenum {
+    if (cb && (order < 1 || order > ES_MAX_AMBISONIC_ORDER))
+      return fail(w, ES_INVALID_VALUE,
+                  format("esSourceAmbisonicCallback: order %u (1 to %d)", order, ES_MAX_AMBISONIC_ORDER));
+    if (cb) w.prepare_bed(slot, static_cast<int>(order));  // may design the decoder: throws, nothing changed
+    sp.field_callback = cb;
+    sp.callback = nullptr;
+    sp.user = cb ? user : nullptr;
+    sp.order = cb ? static_cast<int>(order) : 0;
+    sp.buffer = 0;
+    sp.data = nullptr;
+    sp.frames = 0;
+    w.changed();
+    return ES_OK;
+  });
+}
+
 // ---- the table ----
 
 namespace {
@@ -865,6 +981,7 @@ constexpr ESproctable kTable = {
     esWorldHrtf,        // ABI 1.2
     esGetTrackerImage,  // ABI 1.3
     esAttachTrackerEx,  // ABI 1.4
+    esCreateAmbisonicBuffer, esSourceAmbisonicCallback,  // ABI 1.5
 };
 }  // namespace
 

@@ -6,6 +6,9 @@
 #include <cstring>
 #include <exception>
 
+#include "earshot/audio/ambisonics/ambisonic_bus.hpp"
+#include "earshot/audio/ambisonics/decoder_cache.hpp"
+#include "earshot/audio/ambisonics/spherical_harmonics.hpp"
 #include "earshot/audio/crossfade.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/tracker/live/live_tracker.hpp"
@@ -46,7 +49,9 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   cfg.speed_of_sound = p.speed_of_sound;
   cfg.doppler_factor = propagation_delay() ? p.doppler_factor : 0.0;
   renderer_config_ = cfg;
-  renderers_ = audio::CrossfadeSwitch<audio::Renderer>(std::make_unique<audio::Renderer>(hrtf, cfg));
+  hrtf_path_ = p.hrtf_path ? p.hrtf_path : "";
+  hrtf_ = hrtf;
+  renderers_ = audio::CrossfadeSwitch<audio::Renderer>(make_renderer());
   fade_l_.assign(cfg.block, 0.0f);
   fade_r_.assign(cfg.block, 0.0f);
   const audio::LateReverbType late =
@@ -60,6 +65,9 @@ World::World(const ESworldparams& p) : params_(p), control_thread_(std::this_thr
   source_generation_.assign(p.max_sources, 1);
   buffers_.resize(p.max_buffers);
   playback_.assign(p.max_sources, Playback{});
+  bed_voices_.reserve(p.max_sources);
+  for (std::size_t i = 0; i < p.max_sources; ++i) bed_voices_.push_back(std::make_unique<BedVoice>());
+  bed_gain_.assign(p.max_sources, -1.0);
   status_ = std::make_unique<std::atomic<std::uint64_t>[]>(p.max_sources);
   offsets_ = std::make_unique<std::atomic<double>[]>(p.max_sources);
   for (std::size_t i = 0; i < p.max_sources; ++i) {
@@ -86,9 +94,68 @@ void World::set_hrtf(const char* path) {
   } catch (const std::exception& e) {
     throw Failure{ES_HRTF_ERROR, e.what()};
   }
-  auto next = std::make_unique<audio::Renderer>(hrtf, renderer_config_);
+  const std::string old_path = hrtf_path_;
+  const audio::PreparedHrtf old = hrtf_;
+  hrtf_path_ = path ? path : "";
+  hrtf_ = hrtf;
+  std::unique_ptr<audio::Renderer> next;
+  std::vector<std::unique_ptr<BedUnit>> beds(bed_voices_.size());
+  try {
+    next = make_renderer();  // the tier's decoder for the new set, when the tier is on
+    for (std::size_t i = 0; i < beds.size(); ++i)
+      if (const int order = bed_voices_[i]->offered_order(); order > 0)
+        beds[i] = std::make_unique<BedUnit>(*decoder(order), params_.block_size);
+  } catch (...) {
+    hrtf_path_ = old_path;  // nothing changed
+    hrtf_ = old;
+    throw;
+  }
   // A set handed over before and not picked up yet is replaced (and freed here).
   std::unique_ptr<audio::Renderer> unused(incoming_.exchange(next.release(), std::memory_order_acq_rel));
+  for (std::size_t i = 0; i < beds.size(); ++i)
+    if (beds[i]) bed_voices_[i]->offer(std::move(beds[i]));  // faded in as the renderer is
+}
+
+std::shared_ptr<const ambisonics::DecoderFilters> World::decoder(int order) const {
+  std::optional<double> radius;
+  if (params_.head_radius_m > 0.0f) radius = static_cast<double>(params_.head_radius_m);
+  try {
+    return ambisonics::DecoderCache::shared().get(hrtf_path_.empty() ? hrtf::HrtfSet::kDefaultPath : hrtf_path_,
+                                                  *hrtf_.set, radius, order, design_);
+  } catch (const std::exception& e) {
+    throw Failure{ES_INVALID_VALUE, "no order-" + std::to_string(order) + " decoder for this HRTF set: " + e.what()};
+  }
+}
+
+std::unique_ptr<audio::Renderer> World::make_renderer() const {
+  if (quality_ == 0) return std::make_unique<audio::Renderer>(hrtf_, renderer_config_);
+  const auto filters = decoder(quality_);
+  return std::make_unique<audio::Renderer>(
+      hrtf_, renderer_config_,
+      std::make_unique<ambisonics::AmbisonicBus>(*filters, params_.block_size, renderer_config_.max_sources));
+}
+
+void World::set_quality(int order) {
+  if (order == quality_) return;
+  reclaim_renderers();
+  const int old = quality_;
+  quality_ = order;
+  std::unique_ptr<audio::Renderer> next;
+  try {
+    next = make_renderer();
+  } catch (...) {
+    quality_ = old;
+    throw;
+  }
+  std::unique_ptr<audio::Renderer> unused(incoming_.exchange(next.release(), std::memory_order_acq_rel));
+}
+
+void World::prepare_bed(std::size_t slot, int order) {
+  BedVoice& bv = *bed_voices_[slot];
+  bv.reclaim();
+  if (order == 0 || bv.offered_order() == order) return;  // a point source keeps its unit for later
+  bv.offer(std::make_unique<BedUnit>(*decoder(order), params_.block_size));
+  bv.set_offered_order(order);
 }
 
 void World::adopt_new_renderer() {
@@ -97,6 +164,9 @@ void World::adopt_new_renderer() {
   audio::Renderer* next = incoming_.exchange(nullptr, std::memory_order_acq_rel);
   if (!next) return;
   (void)renderers_.switch_to(std::unique_ptr<audio::Renderer>(next));  // adopted: released into incoming_ by set_hrtf
+  // Before the first block nothing was heard: no fade (a tier chosen right
+  // after esCreateWorld is the world's from its first sample).
+  if (blocks_.load(std::memory_order_relaxed) == 0) renderers_.cut();
   for (std::size_t i = 0; i < voices_; ++i) {
     audio::SourceState silent;
     silent.gain = 0.0;
@@ -161,7 +231,25 @@ std::optional<World::BufferInfo> World::buffer(ESbuffer b) const {
   if (i == 0 || i > buffers_.size()) return std::nullopt;
   const Buffer& buf = buffers_[i - 1];
   if (!buf.alive || (b >> 16) != buf.generation) return std::nullopt;
-  return BufferInfo{buf.samples.data(), buf.samples.size(), buf.rate / static_cast<double>(params_.sample_rate)};
+  const std::size_t channels = buf.order > 0 ? ambisonics::channel_count(buf.order) : 1;
+  return BufferInfo{buf.samples.data(), buf.samples.size() / channels, buf.rate / static_cast<double>(params_.sample_rate),
+                    buf.order};
+}
+
+ESbuffer World::create_ambisonic_buffer(std::vector<float> planar, double rate, int order) {
+  reclaim_buffers();
+  for (std::size_t i = 0; i < buffers_.size(); ++i) {
+    Buffer& b = buffers_[i];
+    if (b.alive || !b.samples.empty()) continue;
+    b.samples = std::move(planar);
+    for (float& x : b.samples)
+      if (!std::isfinite(x)) x = 0.0f;
+    b.rate = rate;
+    b.order = order;
+    b.alive = true;
+    return (static_cast<ESbuffer>(b.generation) << 16) | static_cast<ESbuffer>(i + 1);
+  }
+  return 0;
 }
 
 ESbuffer World::create_buffer(const float* samples, std::size_t frames, double rate) {
@@ -173,6 +261,7 @@ ESbuffer World::create_buffer(const float* samples, std::size_t frames, double r
     for (float& x : b.samples)
       if (!std::isfinite(x)) x = 0.0f;
     b.rate = rate;
+    b.order = 0;
     b.alive = true;
     return (static_cast<ESbuffer>(b.generation) << 16) | static_cast<ESbuffer>(i + 1);
   }
@@ -261,15 +350,109 @@ double World::doppler_shift(const SourceParams& sp, const Snapshot& s) const {
   return std::isfinite(shift) && shift > 0.0 ? shift : 1.0;
 }
 
-void World::feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double shift) {
-  Playback& pb = playback_[slot];
-  if (pb.handle != sp.handle) pb = Playback{sp.handle, 0, ES_INITIAL, 0.0};
-  if (pb.serial != sp.play_serial) {  // play, stop, pause or rewind since the last block
+namespace {
+/// Play, stop, pause or rewind since the last block.
+void follow_requests(World::Playback& pb, const SourceParams& sp) {
+  if (pb.handle != sp.handle) pb = World::Playback{sp.handle, 0, ES_INITIAL, 0.0};
+  if (pb.serial != sp.play_serial) {
     pb.serial = sp.play_serial;
     if (sp.play_state == ES_PLAYING && pb.state != ES_PAUSED) pb.position = 0.0;
     if (sp.play_state == ES_INITIAL || sp.play_state == ES_STOPPED) pb.position = 0.0;
     pb.state = sp.play_state;
   }
+}
+}  // namespace
+
+void World::feed_field(std::size_t slot, const SourceParams& sp, std::span<float> planar) {
+  Playback& pb = playback_[slot];
+  follow_requests(pb, sp);
+  std::fill(planar.begin(), planar.end(), 0.0f);
+  const std::size_t C = ambisonics::channel_count(sp.order), B = params_.block_size;
+  if (sp.handle != 0 && pb.state == ES_PLAYING) {
+    if (sp.field_callback) {
+      sp.field_callback(sp.user, planar.data(), static_cast<ESuint>(C), static_cast<ESuint>(B));
+      for (float& x : planar)
+        if (!std::isfinite(x)) x = 0.0f;
+    } else if (sp.data && sp.frames > 0) {
+      // A field has no position: no Doppler, only the rate and the pitch.
+      const double step = std::clamp(sp.rate_ratio * sp.pitch, 1.0 / 256.0, 64.0);
+      const std::size_t F = sp.frames;
+      const auto n = static_cast<double>(F);
+      for (std::size_t k = 0; k < B; ++k) {
+        if (pb.position >= n) {
+          if (!sp.looping) {
+            pb.state = ES_STOPPED;
+            pb.position = 0.0;
+            break;
+          }
+          pb.position = std::fmod(pb.position, n);
+        }
+        const auto i = static_cast<std::size_t>(pb.position);
+        const auto f = static_cast<float>(pb.position - static_cast<double>(i));
+        const bool has_next = i + 1 < F || sp.looping;
+        const std::size_t j = i + 1 < F ? i + 1 : 0;
+        for (std::size_t c = 0; c < C; ++c) {  // linear interpolation, as mono buffers
+          const float* ch = sp.data + c * F;
+          const float a = ch[i], b = has_next ? ch[j] : 0.0f;
+          planar[c * B + k] = a + (b - a) * f;
+        }
+        pb.position += step;
+      }
+    } else {
+      pb.state = ES_STOPPED;  // nothing to play
+    }
+  }
+  status_[slot].store((pb.serial << 8) | index_of(pb.state), std::memory_order_release);
+  offsets_[slot].store(pb.position, std::memory_order_relaxed);
+}
+
+void World::render_bed(std::size_t slot, const SourceParams& sp, const Snapshot& s, const Quat& listener,
+                       audio::Renderer& renderer, audio::Renderer* fading) {
+  BedVoice& bv = *bed_voices_[slot];
+  bv.adopt(blocks_.load(std::memory_order_relaxed) == 0);
+  BedUnit* u = bv.current();
+  if (!u || u->order() != sp.order) {  // its renderer is on its way (deferred commits): not yet
+    bed_gain_[slot] = -1.0;
+    return;
+  }
+  feed_field(slot, sp, u->input);
+  // A wave from the field's direction d comes from the world's O d (O: the
+  // field's orientation); a head turned by L hears it from L^-1 O d: as a
+  // head turned by O^-1 L in a field fixed in the world. A relative field
+  // turns with the head.
+  const Quat q = sp.state.relative ? conjugate(sp.orientation) : multiply(conjugate(sp.orientation), listener);
+  u->bed.set_orientation(q);
+  u->bed.process(u->input, u->left, u->right);
+  if (BedUnit* f = bv.fading()) {  // a new HRTF set's decoder fading in: the old one hears the same field
+    std::copy(u->input.begin(), u->input.end(), f->input.begin());
+    f->bed.set_orientation(q);
+    f->bed.process(f->input, f->left, f->right);
+    bv.blend(u->left, u->right, f->left, f->right);
+  }
+  // OpenAL's gain for a field: the source's, clamped to [min, max], then
+  // the listener's; no distance, no cone. Ramped across the block.
+  const double g = std::clamp(sp.state.gain, sp.state.min_gain, std::max(sp.state.min_gain, sp.state.max_gain)) *
+                   s.listener_gain;
+  const double g0 = bed_gain_[slot] < 0.0 ? g : bed_gain_[slot];
+  bed_gain_[slot] = g;
+  const std::size_t B = params_.block_size;
+  const auto gain0 = static_cast<float>(g0), step = static_cast<float>((g - g0) / static_cast<double>(B));
+  // Into the mix of this block, before the limiter (the renderers' return
+  // buffers are added at the start of their render).
+  for (audio::Renderer* r : {&renderer, fading}) {
+    if (!r) continue;
+    const std::span<float> ml = r->return_left(), mr = r->return_right();
+    for (std::size_t k = 0; k < B; ++k) {
+      const float gk = gain0 + step * static_cast<float>(k + 1);
+      ml[k] += gk * u->left[k];
+      mr[k] += gk * u->right[k];
+    }
+  }
+}
+
+void World::feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double shift) {
+  Playback& pb = playback_[slot];
+  follow_requests(pb, sp);
   std::fill(in.begin(), in.end(), 0.0f);
   if (sp.handle != 0 && pb.state == ES_PLAYING) {
     if (sp.callback) {
@@ -345,13 +528,21 @@ void World::render(float* left, float* right) {
   for (std::size_t i = 0; i < voices_; ++i) {
     const SourceParams& sp = s.sources[i];
     audio::SourceState st = sp.state;
-    if (sp.handle == 0) {
+    const bool field = sp.handle != 0 && sp.order > 0;
+    if (sp.handle == 0 || field) {  // a field's voice stays silent: its bed renders it
       st = audio::SourceState{};
       st.position = s.sources[i].state.position;
       st.gain = 0.0;
     }
     renderer.set_source(static_cast<int>(i), st);
-    feed(i, sp, renderer.source_input(static_cast<int>(i)), doppler_shift(sp, s));
+    if (field) {
+      const std::span<float> in = renderer.source_input(static_cast<int>(i));
+      std::fill(in.begin(), in.end(), 0.0f);
+      render_bed(i, sp, s, l.orientation, renderer, fading);
+    } else {
+      bed_gain_[i] = -1.0;
+      feed(i, sp, renderer.source_input(static_cast<int>(i)), doppler_shift(sp, s));
+    }
     if (fading) {  // the old set hears the same input
       fading->set_source(static_cast<int>(i), st);
       const auto from = renderer.source_input(static_cast<int>(i));

@@ -18,6 +18,18 @@
 // pointer for the control thread to free. No lock, no allocation on the
 // audio thread.
 //
+// Ambisonic beds (ABI 1.5): a source whose buffer or callback holds an
+// Ambisonic field plays it as a bed: one BedRenderer per bed (bed_voice.hpp,
+// made on the control thread with the decoder of the world's set and order,
+// from the process's DecoderCache, and handed over like a renderer), turned
+// by the same composed head the point sources hear, its gain ramped, mixed
+// into the renderer's mix before the limiter.
+//
+// The Ambisonic tier (ES_QUALITY): a renderer made with an AmbisonicBus
+// (audio/renderer.hpp, ambisonics/ambisonic_bus.hpp), prepared on the
+// control thread and handed over through the same switch as a new HRTF set.
+// Decoders are designed only when a bed or the tier needs one.
+//
 // Buffers: the samples are owned by the control side. A deleted buffer's
 // samples are freed only when none of the three snapshots refers to them,
 // so the audio thread never reads freed memory.
@@ -34,6 +46,8 @@
 #include <thread>
 #include <vector>
 
+#include "bed_voice.hpp"
+#include "earshot/audio/ambisonics/binaural_decoder_design.hpp"
 #include "earshot/audio/crossfade_switch.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "earshot/audio/room_reverb.hpp"
@@ -64,6 +78,9 @@ struct SourceParams {
   double rate_ratio = 1.0;  ///< buffer rate / world rate
   ESsourcecallback callback = nullptr;
   void* user = nullptr;
+  int order = 0;  ///< > 0: an Ambisonic field of this order (buffer or field callback), not a point
+  Quat orientation{1, 0, 0, 0};  ///< a field's orientation in the world (or the head, when relative)
+  ESambisoniccallback field_callback = nullptr;
   ESenum play_state = ES_INITIAL;  ///< requested: initial, playing, paused, stopped
   std::uint64_t play_serial = 0;   ///< bumped by every play / stop / rewind
 };
@@ -114,12 +131,15 @@ class World {
   [[nodiscard]] double source_offset(std::size_t slot) const;
 
   struct BufferInfo {
-    const float* data;
+    const float* data;  ///< mono, or an Ambisonic buffer's channels planar (ambiX)
     std::size_t frames;
     double rate_ratio;
+    int order;  ///< 0: mono
   };
   [[nodiscard]] std::optional<BufferInfo> buffer(ESbuffer b) const;
   [[nodiscard]] ESbuffer create_buffer(const float* samples, std::size_t frames, double rate);  ///< 0: full
+  /// An Ambisonic buffer: `planar` holds (order+1)^2 channels one after the other, ambiX. 0: full.
+  [[nodiscard]] ESbuffer create_ambisonic_buffer(std::vector<float> planar, double rate, int order);
   /// False while a source has it set.
   bool delete_buffer(ESbuffer b);
 
@@ -129,6 +149,18 @@ class World {
   /// Frames both sets render before the crossfade, and its length.
   static constexpr std::size_t kWarmFrames = audio::CrossfadeSwitch<audio::Renderer>::kWarm,
                                kFadeFrames = audio::CrossfadeSwitch<audio::Renderer>::kFade;
+
+  /// Makes slot `slot` ready to play a field of `order` (0: a point source):
+  /// a bed renderer with the decoder of the world's set for that order
+  /// (designed or read from the caches here). Throws Failure (ES_INVALID_VALUE).
+  void prepare_bed(std::size_t slot, int order);
+  /// The renderer tier: 0 direct, N > 0 `ambisonic:N` (a renderer prepared
+  /// here and faded in at a block start). Throws Failure.
+  void set_quality(int order);
+  [[nodiscard]] int quality() const { return quality_; }
+  /// The decoder design of beds and of the tier made from now on.
+  void set_decoder_method(ambisonics::DecoderMethod m) { design_.method = m; }
+  [[nodiscard]] ambisonics::DecoderMethod decoder_method() const { return design_.method; }
 
   void attach_tracker(const char* spec);  ///< throws Failure
   /// With options (esAttachTrackerEx: where to send the poses); throws Failure.
@@ -179,18 +211,21 @@ class World {
   }
   void render(float* left, float* right);
 
- private:
+  /// A source's playback on the audio side.
   struct Playback {
     ESsource handle = 0;
     std::uint64_t serial = 0;
     ESenum state = ES_INITIAL;
     double position = 0.0;  ///< in buffer frames
   };
+
+ private:
   struct Buffer {
     std::uint16_t generation = 1;
     bool alive = false;
     std::vector<float> samples;
     double rate = 0.0;
+    int order = 0;  // > 0: Ambisonic, samples planar
   };
 
   void publish();
@@ -198,6 +233,14 @@ class World {
   void reclaim_renderers();  // control side: frees what the audio side handed back
   void adopt_new_renderer();  // audio side, at a block start
   void feed(std::size_t slot, const SourceParams& sp, std::span<float> in, double doppler_shift);
+  /// A bed's block: playback (or its callback) into its unit, turned and
+  /// decoded, gain-ramped into the renderers' mixes before the limiter.
+  void render_bed(std::size_t slot, const SourceParams& sp, const Snapshot& s, const Quat& listener,
+                  audio::Renderer& renderer, audio::Renderer* fading);
+  /// Playback of a field's buffer or callback into `planar` (channels x block).
+  void feed_field(std::size_t slot, const SourceParams& sp, std::span<float> planar);
+  [[nodiscard]] std::unique_ptr<audio::Renderer> make_renderer() const;  // control side: the set and tier in use
+  [[nodiscard]] std::shared_ptr<const ambisonics::DecoderFilters> decoder(int order) const;
   [[nodiscard]] double doppler_shift(const SourceParams& sp, const Snapshot& s) const;
 
   ESworldparams params_;
@@ -207,6 +250,10 @@ class World {
 
   // control side
   Snapshot control_;
+  std::string hrtf_path_;        // the SOFA file in use ("" : the default set)
+  audio::PreparedHrtf hrtf_;     // its prepared data (shared with the renderers)
+  int quality_ = 0;              // 0 direct, N ambisonic:N
+  ambisonics::DecoderDesign design_;
   std::vector<std::uint16_t> source_generation_;
   std::vector<Buffer> buffers_;
 
@@ -233,6 +280,8 @@ class World {
   bool reverb_was_on_ = false;
   std::size_t voices_ = 0;  // renderer voices added so far
   std::vector<Playback> playback_;
+  std::vector<std::unique_ptr<BedVoice>> bed_voices_;  // one per slot, made at construction
+  std::vector<double> bed_gain_;                        // audio side: each bed's last gain (< 0: none yet)
   std::unique_ptr<std::atomic<std::uint64_t>[]> status_;   // serial << 8 | state index
   std::unique_ptr<std::atomic<double>[]> offsets_;
   head::HeadReader head_reader_;  // audio side

@@ -306,6 +306,36 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
     l.done();
   }
   if (f.has("pose_track")) s.pose_track = resolve(base, f.text("pose_track", ""));
+  s.quality = f.text("quality", "direct");
+  if (!quality_order(s.quality)) f.fail("quality", "unknown quality '" + s.quality + "' (direct, ambisonic:1 to ambisonic:7)");
+  if (f.has("beds")) {
+    const json& beds = f.at("beds");
+    if (!beds.is_array()) f.fail("beds", "expected an array of beds");
+    for (std::size_t i = 0; i < beds.size(); ++i) {
+      Fields bf(beds[i], origin, "beds[" + std::to_string(i) + "]");
+      SceneBed b;
+      b.name = bf.text("name", "bed " + std::to_string(i + 1));
+      if (!bf.has("path")) bf.fail("path", "missing (an Ambisonic file)");
+      b.path = resolve(base, bf.text("path", ""));
+      b.convention = bf.text("convention", "ambix");
+      if (b.convention != "ambix" && b.convention != "n3d" && b.convention != "fuma")
+        bf.fail("convention", "unknown convention '" + b.convention + "' (ambix, n3d, fuma)");
+      b.gain_db = bf.number("gain_db", 0, -120, 40);
+      b.yaw_deg = bf.number("yaw_deg", 0, -360, 360);
+      b.pitch_deg = bf.number("pitch_deg", 0, -90, 90);
+      b.roll_deg = bf.number("roll_deg", 0, -360, 360);
+      if (bf.has("loop")) {
+        if (!bf.at("loop").is_boolean()) bf.fail("loop", "expected true or false");
+        b.loop = bf.at("loop").get<bool>();
+      }
+      bf.done();
+      s.beds.push_back(std::move(b));
+    }
+  }
+  if (!f.has("sources") && !s.beds.empty()) {
+    f.done();
+    return s;
+  }
   if (!f.has("sources") || !f.at("sources").is_array()) f.fail("sources", "expected an array of sources");
   const json& arr = f.at("sources");
   for (std::size_t i = 0; i < arr.size(); ++i) {
@@ -335,6 +365,15 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
   }
   f.done();
   return s;
+}
+
+std::optional<int> quality_order(std::string_view q) {
+  if (q == "direct") return 0;
+  constexpr std::string_view prefix = "ambisonic:";
+  if (q.size() != prefix.size() + 1 || q.substr(0, prefix.size()) != prefix) return std::nullopt;
+  const char n = q.back();
+  if (n < '1' || n > '7') return std::nullopt;
+  return n - '0';
 }
 
 bool is_room_name(std::string_view name) { return name == "none" || audio::find_room_preset(name) != nullptr; }

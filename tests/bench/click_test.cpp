@@ -8,12 +8,19 @@
 // Prints markdown for docs/BENCHMARKS.md.
 //
 //   click_test [--seconds 5] [--skip 0.5] [--wav-dir DIR] [--require-db -60]
-//              [--blend floored|plain|nearest]
+//              [--blend floored|plain|nearest] [--bed-orders 1,3,5]
+//              [--tier-orders 3] [--require-bed-db -80]
 //
 // --blend: Earshot's filter blend (HrtfSet::FilterBlend; floored is the
 // default).
 // --require-db: exit 1 when Earshot's turning-head ratio on either ear is
 // above that level (a quality check, not a timing one).
+// --bed-orders: also the same tone as an Ambisonic bed (a plane wave from
+// ahead, ambiX, that order) through a whole world of the C API
+// (libearshot: esCreateAmbisonicBuffer, the head by esSetHeadPose every
+// block), and --tier-orders: the point source through a world with the
+// Ambisonic tier (ES_QUALITY_AMBISONIC(N)). --require-bed-db: exit 1 when a
+// bed's or a tier's turning ratio is above that level.
 #include <kiss_fftr.h>
 #include <sndfile.h>
 
@@ -31,7 +38,9 @@
 #include <string>
 #include <vector>
 
+#include "earshot/audio/ambisonics/spherical_harmonics.hpp"
 #include "earshot/audio/renderer.hpp"
+#include "earshot/earshot.h"
 #include "openal_reference.hpp"
 
 namespace {
@@ -92,6 +101,59 @@ Stereo render_openal(std::size_t blocks, bool turning, std::string& hrtf_name) {
   for (std::size_t b = 0; b < blocks; ++b) {
     al.set_listener_orientation(earshot::quat_from_ypr(yaw_at_block(b, turning), 0, 0));
     al.render(std::span(out.left).subspan(b * kBlock, kBlock), std::span(out.right).subspan(b * kBlock, kBlock));
+  }
+  return out;
+}
+
+/// The tone through a world of the C API, the head turned by esSetHeadPose
+/// each block: as an order-`bed` Ambisonic bed (a plane wave from ahead),
+/// or (bed 0) as a point source 1 m ahead in a world of the tier `tier`.
+Stereo render_world(std::size_t blocks, bool turning, int bed, int tier) {
+  ESworldparams p;
+  esWorldParamsDefault(&p);
+  p.sample_rate = kRate;
+  p.block_size = kBlock;
+  p.max_sources = 1;
+  ESworld w = 0;
+  if (esCreateWorld(&p, &w) != ES_OK) throw std::runtime_error(std::string("esCreateWorld: ") + esGetErrorMessage(0));
+  struct Destroy {
+    ESworld w;
+    ~Destroy() { esDestroyWorld(w); }
+  } destroy{w};
+  const auto check = [&](ESenum e, const char* what) {
+    if (e != ES_OK) throw std::runtime_error(std::string(what) + ": " + esGetErrorMessage(w));
+  };
+  if (tier > 0) check(esWorldi(w, ES_QUALITY, ES_QUALITY_AMBISONIC(tier)), "ES_QUALITY");
+  const std::vector<float> tone = tone_second();
+  ESbuffer b = 0;
+  if (bed > 0) {
+    const std::size_t C = earshot::ambisonics::channel_count(bed);
+    std::vector<double> sh(C);
+    earshot::ambisonics::real_sh(bed, earshot::Vec3{1, 0, 0}, sh);  // ahead
+    std::vector<float> field(tone.size() * C);
+    for (std::size_t n = 0; n < tone.size(); ++n)
+      for (std::size_t c = 0; c < C; ++c) field[n * C + c] = static_cast<float>(sh[c]) * tone[n];
+    check(esCreateAmbisonicBuffer(w, field.data(), static_cast<ESuint>(tone.size()), kRate, static_cast<ESuint>(bed),
+                                  ES_AMBISONIC_LAYOUT_ACN, ES_AMBISONIC_SCALING_SN3D, &b),
+          "esCreateAmbisonicBuffer");
+  } else {
+    check(esCreateBuffer(w, tone.data(), static_cast<ESuint>(tone.size()), kRate, &b), "esCreateBuffer");
+  }
+  ESsource s = 0;
+  check(esCreateSource(w, &s), "esCreateSource");
+  check(esSourcei(w, s, ES_BUFFER, static_cast<ESint>(b)), "ES_BUFFER");
+  check(esSourcei(w, s, ES_LOOPING, ES_TRUE), "ES_LOOPING");
+  if (bed == 0) check(esSource3f(w, s, ES_POSITION, 0, 0, -1), "ES_POSITION");
+  check(esSourcePlay(w, s), "esSourcePlay");
+  Stereo out{std::vector<float>(blocks * kBlock), std::vector<float>(blocks * kBlock)};
+  for (std::size_t k = 0; k < blocks; ++k) {
+    const earshot::Quat q = earshot::quat_from_ypr(yaw_at_block(k, turning), 0, 0);
+    const ESfloat pos[3] = {0, 0, 0};
+    const ESfloat o[4] = {static_cast<ESfloat>(q[0]), static_cast<ESfloat>(q[1]), static_cast<ESfloat>(q[2]),
+                          static_cast<ESfloat>(q[3])};
+    check(esSetHeadPose(w, pos, o), "esSetHeadPose");
+    if (esRender(w, out.left.data() + k * kBlock, out.right.data() + k * kBlock, kBlock) != ES_OK)
+      throw std::runtime_error("esRender failed");
   }
   return out;
 }
@@ -193,6 +255,15 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0.0, 60.0));
   app.add_option("--wav-dir", wav_dir, "write each render there as a float WAV");
   app.add_option("--require-db", require_db, "fail when Earshot's turning ratio exceeds this (dB)");
+  std::vector<int> bed_orders, tier_orders;
+  std::optional<double> require_bed_db;
+  app.add_option("--bed-orders", bed_orders, "also the tone as an Ambisonic bed of these orders, through a world")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 7));
+  app.add_option("--tier-orders", tier_orders, "also the point source through a world of the ambisonic:N tier")
+      ->delimiter(',')
+      ->check(CLI::Range(1, 7));
+  app.add_option("--require-bed-db", require_bed_db, "fail when a bed's or tier's turning ratio exceeds this (dB)");
   using Blend = earshot::hrtf::HrtfSet::FilterBlend;
   Blend blend = Blend::floored;
   app.add_option("--blend", blend, "Earshot's filter blend: floored (the default), plain or nearest")
@@ -221,13 +292,23 @@ int main(int argc, char** argv) {
       runs.push_back({"Earshot", turning, render_earshot(blocks, turning, hrtf), {}, {}});
       runs.push_back({"OpenAL Soft 1.19", turning, render_openal(blocks, turning, al_hrtf), {}, {}});
     }
+    for (int order : bed_orders)
+      for (bool turning : {true, false})
+        runs.push_back({"Earshot world, bed order " + std::to_string(order), turning,
+                        render_world(blocks, turning, order, 0), {}, {}});
+    for (int order : tier_orders)
+      for (bool turning : {true, false})
+        runs.push_back({"Earshot world, ambisonic:" + std::to_string(order) + " tier", turning,
+                        render_world(blocks, turning, 0, order), {}, {}});
     for (Run& run : runs) {
       run.l = analyse(welch, std::span<const float>(run.out.left).subspan(from));
       run.r = analyse(welch, std::span<const float>(run.out.right).subspan(from));
       if (!wav_dir.empty()) {
         std::filesystem::create_directories(wav_dir);
-        const std::string name = std::string(run.renderer == "Earshot" ? "earshot" : "openal") +
-                                 (run.turning ? "_turning" : "_static") + ".wav";
+        std::string stem = run.renderer == "Earshot" ? "earshot" : run.renderer.starts_with("OpenAL") ? "openal" : run.renderer;
+        for (char& ch : stem)
+          if (ch == ' ' || ch == ',' || ch == ':') ch = '_';
+        const std::string name = stem + (run.turning ? "_turning" : "_static") + ".wav";
         write_wav(std::filesystem::path(wav_dir) / name, run.out);
       }
     }
@@ -262,6 +343,16 @@ int main(int argc, char** argv) {
       }
     }
 
+    if (require_bed_db) {
+      double worst = -1e9;
+      for (const Run& run : runs)
+        if (run.turning && run.renderer.starts_with("Earshot world")) worst = std::max({worst, run.l.high_db, run.r.high_db});
+      if (worst > *require_bed_db) {
+        std::printf("\nFAIL: a bed's or tier's turning-head ratio %.1f dB is above %.1f dB\n", worst, *require_bed_db);
+        return 1;
+      }
+      std::printf("\nPASS: the beds' and tiers' turning-head ratios <= %.1f dB (worst %.1f)\n", *require_bed_db, worst);
+    }
     if (require_db) {
       const Run& e = runs.front();  // Earshot, turning
       const double worst = std::max(e.l.high_db, e.r.high_db);

@@ -12,6 +12,7 @@
 //                     [--stop-below 0.2] [--only earshot|openal] [--csv FILE]
 //                     [--hrtf FILE.sofa] [--no-near-field]
 //                     [--blend floored|plain|nearest]
+//                     [--quality direct,ambisonic:3]
 //
 // Each (renderer, N) renders at least --seconds of audio and --min-cpu
 // seconds of CPU, --repeat times; the best repeat is kept (least disturbed
@@ -23,6 +24,12 @@
 // blend floor, hrtf_set.hpp): what the floor saves. The last column is the
 // convolutions (measured direction x ear) Earshot ran per source and block.
 // --stop-below: a renderer is not run at larger N once its RTF fell below.
+// --quality: the renderer tiers to run beside OpenAL Soft, interleaved in
+// one run: `direct` (the default) and `ambisonic:N` (every source encoded
+// into an order-N bus decoded once per block: audio/renderer.hpp with an
+// ambisonics::AmbisonicBus; its decoder designed once before timing). With
+// more than the direct tier the table has a column per tier and each tier's
+// CPU against OpenAL Soft's.
 #include <time.h>
 
 #include <CLI/CLI.hpp>
@@ -39,6 +46,8 @@
 #include <string>
 #include <vector>
 
+#include "earshot/audio/ambisonics/ambisonic_bus.hpp"
+#include "earshot/audio/ambisonics/binaural_decoder_design.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "openal_reference.hpp"
 
@@ -103,15 +112,21 @@ struct EarshotRun {
   double convolutions = 0;  // per source and block, timed blocks
 };
 
-/// Realtime factor of Earshot's Renderer with n moving sources.
+/// Realtime factor of Earshot's Renderer with n moving sources; with
+/// `tier` (decoder filters), the Ambisonic tier.
 EarshotRun run_earshot(int n, const Budget& budget, const std::shared_ptr<const earshot::hrtf::HrtfSet>& hrtf,
-                       const std::vector<std::vector<float>>& loops) {
+                       const std::vector<std::vector<float>>& loops,
+                       const earshot::ambisonics::DecoderFilters* tier = nullptr) {
   earshot::audio::RendererConfig cfg;
   cfg.sample_rate = kRate;
   cfg.block = kBlock;
   cfg.max_sources = std::size_t(n);
   cfg.near_field = budget.near_field;
-  earshot::audio::Renderer r(hrtf, cfg);
+  const earshot::audio::PreparedHrtf prepared{hrtf, std::make_shared<const earshot::audio::HrtfSpectra>(*hrtf, kBlock)};
+  earshot::audio::Renderer r =
+      tier ? earshot::audio::Renderer(prepared, cfg,
+                                      std::make_unique<earshot::ambisonics::AmbisonicBus>(*tier, kBlock, cfg.max_sources))
+           : earshot::audio::Renderer(prepared, cfg);
   const std::vector<Path> path = paths(n);
   std::vector<int> ids;
   std::vector<std::size_t> read(static_cast<std::size_t>(n));
@@ -228,6 +243,77 @@ std::string sources_per_core(std::vector<int> ns, std::vector<double> rtf) {
   return buf;
 }
 
+std::string tier_name(int order) { return order == 0 ? "direct" : "ambisonic:" + std::to_string(order); }
+
+/// Every tier and OpenAL Soft, interleaved per source count; one table.
+int run_tiers(const std::vector<int>& ns, const std::vector<int>& orders, const Budget& budget, int repeat,
+              double stop_below, const std::string& hrtf_path, const std::string& only) {
+  try {
+    const auto hrtf = std::make_shared<const earshot::hrtf::HrtfSet>(
+        hrtf_path.empty() ? earshot::hrtf::HrtfSet::load_default(kRate) : earshot::hrtf::HrtfSet::load(hrtf_path, kRate));
+    std::map<int, earshot::ambisonics::DecoderFilters> decoders;  // designed before anything is timed
+    for (int o : orders)
+      if (o > 0 && !decoders.count(o)) decoders.emplace(o, earshot::ambisonics::design_binaural_decoder(*hrtf, o));
+    const auto loops = noise_loops();
+    std::string al_hrtf;
+    std::vector<std::vector<double>> rtf(orders.size());  // [tier][count], 0: not run
+    std::vector<double> oal;
+    for (int n : ns) {
+      std::vector<double> best(orders.size(), 0.0);
+      double best_o = 0;
+      for (int k = 0; k < repeat; ++k) {  // interleaved: slow drifts in load hit every renderer alike
+        for (std::size_t t = 0; t < orders.size(); ++t) {
+          if (only == "openal" || (!rtf[t].empty() && rtf[t].back() < stop_below)) continue;
+          const auto* tier = orders[t] > 0 ? &decoders.at(orders[t]) : nullptr;
+          best[t] = std::max(best[t], run_earshot(n, budget, hrtf, loops, tier).rtf);
+        }
+        if (only != "earshot" && (oal.empty() || oal.back() >= stop_below))
+          best_o = std::max(best_o, run_openal(n, budget, loops, al_hrtf));
+      }
+      for (std::size_t t = 0; t < orders.size(); ++t) rtf[t].push_back(best[t]);
+      oal.push_back(best_o);
+      std::fprintf(stderr, "render_throughput: %d sources done\n", n);
+    }
+    std::printf("### %s sources by tier, %d Hz, %zu-frame blocks, one thread\n\n", budget.still ? "Still" : "Moving",
+                kRate, kBlock);
+    std::printf("Earshot: MIT KEMAR, %zu-tap filters (direct); the ambisonic tiers' MagLS decoders from the same set. "
+                "OpenAL Soft 1.19 HRTF data set: \"%s\". CPU per source and block in us (best of %d; each >= %.2g s "
+                "audio, >= %.2g CPU s); ratio = CPU / OpenAL Soft's CPU.\n\n",
+                hrtf->filter_length(), al_hrtf.c_str(), repeat, budget.seconds, budget.min_cpu);
+    std::printf("| sources |");
+    for (int o : orders) std::printf(" %s us |", tier_name(o).c_str());
+    std::printf(" OpenAL Soft us |");
+    for (int o : orders) std::printf(" %s / OpenAL |", tier_name(o).c_str());
+    std::printf("\n|---:|");
+    for (std::size_t t = 0; t < 2 * orders.size() + 1; ++t) std::printf("---:|");
+    std::printf("\n");
+    const double block_us = 1e6 * double(kBlock) / kRate;
+    for (std::size_t k = 0; k < ns.size(); ++k) {
+      const auto us = [&](double r) {
+        char b[32];
+        if (r > 0) std::snprintf(b, sizeof b, "%.2f", block_us / (r * ns[k]));
+        return r > 0 ? std::string(b) : std::string("not run");
+      };
+      std::printf("| %d |", ns[k]);
+      for (std::size_t t = 0; t < orders.size(); ++t) std::printf(" %s |", us(rtf[t][k]).c_str());
+      std::printf(" %s |", us(oal[k]).c_str());
+      for (std::size_t t = 0; t < orders.size(); ++t) {
+        if (rtf[t][k] > 0 && oal[k] > 0) std::printf(" **%.2f** |", oal[k] / rtf[t][k]);
+        else std::printf(" - |");
+      }
+      std::printf("\n");
+    }
+    for (std::size_t t = 0; t < orders.size(); ++t)
+      std::printf("\nSources per core at realtime factor 1, %s: %s.", tier_name(orders[t]).c_str(),
+                  sources_per_core(ns, rtf[t]).c_str());
+    std::printf("\nOpenAL Soft: %s.\n", sources_per_core(ns, oal).c_str());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "render_throughput: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -252,6 +338,8 @@ int main(int argc, char** argv) {
       ->transform(CLI::CheckedTransformer(
           std::map<std::string, Blend>{{"floored", Blend::floored}, {"plain", Blend::plain}, {"nearest", Blend::nearest}}));
   app.add_option("--stop-below", stop_below, "skip larger N for a renderer once its RTF fell below this");
+  std::vector<std::string> qualities{"direct"};
+  app.add_option("--quality", qualities, "renderer tiers: direct and/or ambisonic:N (N = 1..7)")->delimiter(',');
   std::string only = "both", csv_path, hrtf_path;
   app.add_option("--hrtf", hrtf_path, "Earshot's SOFA set (default: MIT KEMAR); OpenAL Soft keeps its own");
   app.add_option("--csv", csv_path, "also write the table as CSV (for tools/plot_throughput.py)");
@@ -264,6 +352,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "render_throughput: no source counts left\n");
     return 2;
   }
+  std::vector<int> orders;  // 0: direct
+  for (const std::string& q : qualities) {
+    if (q == "direct") {
+      orders.push_back(0);
+    } else if (q.size() == 11 && q.starts_with("ambisonic:") && q[10] >= '1' && q[10] <= '7') {
+      orders.push_back(q[10] - '0');
+    } else {
+      std::fprintf(stderr, "render_throughput: unknown quality '%s' (direct, ambisonic:1 to ambisonic:7)\n", q.c_str());
+      return 2;
+    }
+  }
+  if (orders.size() > 1 || orders.front() != 0) return run_tiers(ns, orders, budget, repeat, stop_below, hrtf_path, only);
 
   try {
     auto set = std::make_shared<earshot::hrtf::HrtfSet>(

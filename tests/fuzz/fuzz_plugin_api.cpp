@@ -8,7 +8,9 @@
 // argument bytes (handles picked from the live ones, stale ones or raw
 // bytes; floats raw, so NaN and infinity come up, or from a table of edges).
 // esGetTrackerState and esGetTrackerImage get any struct size and NULL;
-// their answers must be whole.
+// their answers must be whole. Ambisonic fields (ABI 1.5): buffers of any
+// order, layout and scaling with raw samples, field callbacks writing
+// garbage, the tier and the decoder chosen with any value.
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -71,7 +73,8 @@ State& state() {
   return s;
 }
 
-constexpr std::array<ESenum, 24> kParams = {
+constexpr std::array<ESenum, 25> kParams = {
+    ES_AMBISONIC_ORDER,
     ES_POSITION, ES_VELOCITY, ES_GAIN, ES_ORIENTATION, ES_ORIENTATION_QUAT, ES_SOURCE_RELATIVE,
     ES_CONE_INNER_ANGLE, ES_CONE_OUTER_ANGLE, ES_PITCH, ES_DIRECTION, ES_LOOPING, ES_BUFFER,
     ES_MIN_GAIN, ES_MAX_GAIN, ES_SOURCE_STATE, ES_REFERENCE_DISTANCE, ES_ROLLOFF_FACTOR,
@@ -108,6 +111,10 @@ void garbage(void* user, float* out, ESuint frames) {
   }
 }
 
+void garbage_field(void* user, float* out, ESuint channels, ESuint frames) {
+  for (ESuint c = 0; c < channels; ++c) garbage(static_cast<char*>(user) + c, out + std::size_t{c} * frames, frames);
+}
+
 void render_and_check(ESworld w) {
   static std::array<float, kBlock> l, r;
   const ESenum e = esRender(w, l.data(), r.data(), kBlock);
@@ -123,6 +130,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const ESworld w = s.world;
   // Start clean: stop and delete what the last input left, immediate mode.
   esWorldi(w, ES_COMMIT_MODE, ES_IMMEDIATE);
+  esWorldi(w, ES_QUALITY, ES_QUALITY_DIRECT);
+  esWorldi(w, ES_AMBISONIC_DECODER, ES_DECODER_MAGLS);
   for (ESsource src : s.sources) {
     esDeleteSource(w, src);
     s.dead_sources.push_back(src);
@@ -140,7 +149,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   int ops = 0;
   while (!in.empty() && ops++ < 256) {
     const ESworld target = in.u8() < 240 ? w : (in.u8() & 1 ? s.dead_world : in.u32());
-    const std::uint8_t op = in.u8() % 24;
+    const std::uint8_t op = in.u8() % 27;
     switch (op) {
       case 0: {
         ESsource src = 0;
@@ -191,6 +200,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         const ESenum p = kParams[in.u8() % kParams.size()];
         for (float& x : v) x = in.f32();
         esListenerfv(target, p, in.u8() < 250 ? v.data() : nullptr);
+        // The same six floats into a source: ES_ORIENTATION takes six (ABI 1.5).
+        esSourcefv(target, pick(in, s.sources, s.dead_sources), p, in.u8() < 250 ? v.data() : nullptr);
         break;
       }
       case 8: {
@@ -228,7 +239,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
       case 17: {
         const ESsource src = pick(in, s.sources, s.dead_sources);
-        std::array<float, 3> v{};
+        std::array<float, 6> v{};  // ES_ORIENTATION on a source answers six (ABI 1.5)
         ESint i = 0;
         esGetSourcefv(target, src, kParams[in.u8() % kParams.size()], v.data());
         esGetSourcei(target, src, kParams[in.u8() % kParams.size()], &i);
@@ -278,6 +289,37 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
           for (std::size_t i = std::size_t{im.width} * im.height; i < sizeof im.pixels; ++i)
             if (im.pixels[i] != 0) std::abort();
         }
+        break;
+      }
+      case 24: {  // an Ambisonic buffer (ABI 1.5): any order, layout, scaling, raw samples
+        static std::array<float, 64 * 12> raw;
+        for (float& x : raw) x = in.f32();
+        const ESuint order = in.u8() % 9;
+        const ESuint frames = in.u8() % 13;
+        constexpr std::array<ESenum, 3> layouts{ES_AMBISONIC_LAYOUT_ACN, ES_AMBISONIC_LAYOUT_FUMA, 0x6005};
+        constexpr std::array<ESenum, 4> scalings{ES_AMBISONIC_SCALING_SN3D, ES_AMBISONIC_SCALING_N3D,
+                                                 ES_AMBISONIC_SCALING_FUMA, 0};
+        const ESenum layout = layouts[in.u8() % layouts.size()], scaling = scalings[in.u8() % scalings.size()];
+        // At most 64 channels x 12 frames fit `raw`: larger counts pass a NULL instead.
+        const bool fits = std::size_t(order + 1) * (order + 1) * frames <= raw.size();
+        ESbuffer b = 0;
+        if (esCreateAmbisonicBuffer(target, fits ? raw.data() : nullptr, frames, 8000 + 1000 * (in.u8() % 200), order,
+                                    layout, scaling, &b) == ES_OK)
+          s.buffers.push_back(b);
+        break;
+      }
+      case 25: {  // a field callback (garbage samples), or none
+        const ESsource src = pick(in, s.sources, s.dead_sources);
+        const ESuint order = in.u8() % 9;
+        esSourceAmbisonicCallback(target, src, order, in.u8() & 1 ? garbage_field : nullptr,
+                                  reinterpret_cast<void*>(std::uintptr_t{in.u8()}));
+        break;
+      }
+      case 26: {  // the tier and the decoder, any value (a change designs a decoder: slow once per order)
+        const std::uint8_t how = in.u8();
+        const ESint v = how < 100 ? ES_QUALITY_DIRECT + how % 10 : how < 200 ? ES_DECODER_MAGLS + how % 3
+                                                                             : static_cast<ESint>(in.u32());
+        esWorldi(target, how & 1 ? ES_QUALITY : ES_AMBISONIC_DECODER, v);
         break;
       }
       default: {

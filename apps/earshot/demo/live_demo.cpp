@@ -21,6 +21,7 @@
 #include "earshot/errors.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/host/wav_writer.hpp"
+#include "earshot/scenes/field_stream.hpp"
 #include "earshot/stop_signals.hpp"
 #include "keys.hpp"
 #include "live_session.hpp"
@@ -196,6 +197,12 @@ void list_devices() {
 
 long run_live(const LiveOptions& o) {
   NamedScene first = load_demo_scene(o.scene, o.room);
+  if (!o.ambix.empty()) {  // the field loops while the demo plays
+    scenes::Scene field = scenes::scene_of_field(o.ambix);
+    field.beds.front().loop = true;
+    if (o.ambix_alone) first = {field, std::filesystem::path(o.ambix).filename().string(), ""};
+    else first.scene.beds.push_back(field.beds.front());
+  }
   AudioOutput out;
   const DeviceInfo dev = out.choose(o.device);  // none: NoDevice, and the caller renders instead
   LiveSession session(std::move(first), o);

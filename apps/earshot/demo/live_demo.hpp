@@ -13,6 +13,8 @@ namespace earshot::demo {
 
 struct LiveOptions {
   std::string scene = "circles", room, tracker = "sim", device;
+  std::string ambix;        ///< an Ambisonic file played as a bed, looping ("": none)
+  bool ambix_alone = true;  ///< the file alone (no --scene given), else a bed in `scene`
   /// SOFA sets to switch among with 'h' (esWorldHrtf); the first plays at
   /// the start; "" or none: MIT KEMAR.
   std::vector<std::string> hrtfs;

@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "earshot/audio/ambisonics/spherical_harmonics.hpp"
+#include "earshot/audio/spectral_kernels.hpp"
 
 namespace earshot::ambisonics {
 
@@ -34,12 +35,9 @@ void Encoder::process(std::span<const float> in, std::span<float> bus) {
   for (std::size_t c = 0; c < gains_.size(); ++c) {
     float* y = bus.data() + c * B;
     const float a = gains_[c], d = target_[c] - gains_[c];
-    if (d == 0.0f) {
-      if (a != 0.0f)
-        for (std::size_t n = 0; n < B; ++n) y[n] += a * in[n];
-    } else {
-      for (std::size_t n = 0; n < B; ++n) y[n] += (a + d * ramp_[n]) * in[n];
-    }
+    // The renderer's gain-curve kernel (AVX2 where the CPU has it): the
+    // tier runs this for every source and channel.
+    if (a != 0.0f || d != 0.0f) audio::kernels::add_shaped(in.data(), a, d, 0.0f, ramp_.data(), ramp_.data(), y, B);
     gains_[c] = target_[c];
   }
 }

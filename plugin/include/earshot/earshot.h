@@ -66,8 +66,9 @@ extern "C" {
  * minor version only appends functions to the table; a new major one breaks
  * it. */
 #define ES_ABI_VERSION_MAJOR 1u
-#define ES_ABI_VERSION_MINOR 4u /* 1: esGetTrackerState; 2: esWorldHrtf;
-                                  * 3: esGetTrackerImage; 4: esAttachTrackerEx */
+#define ES_ABI_VERSION_MINOR 5u /* 1: esGetTrackerState; 2: esWorldHrtf;
+                                  * 3: esGetTrackerImage; 4: esAttachTrackerEx;
+                                  * 5: Ambisonic fields and the Ambisonic tier */
 #define ES_ABI_VERSION ((ES_ABI_VERSION_MAJOR << 16) | ES_ABI_VERSION_MINOR)
 /* The file name to dlopen: the soname, which changes with the major version
  * (plugin/CMakeLists.txt reads both from this header, so they cannot drift). */
@@ -409,6 +410,81 @@ ES_API ESenum esAttachTrackerEx(ESworld world, const char *spec, const char *con
 /* One block: block_size frames into left and right. The audio thread. */
 ES_API ESenum esRender(ESworld world, float *left, float *right, ESuint frames);
 
+/* ---- Ambisonic sound fields and the Ambisonic tier (ABI 1.5) ---------- */
+/* The shape of OpenAL Soft's AL_SOFT_bformat_ex and AL_SOFT_bformat_hoa.
+ *
+ * A buffer may hold an Ambisonic sound field of order 1..ES_MAX_AMBISONIC_ORDER:
+ * (order + 1)^2 channels in a channel layout and a scaling. A source whose
+ * buffer (or field callback) is one plays it as a sound field around the
+ * listener: a field of plane waves, fixed in the world with its own
+ * orientation (ES_ORIENTATION / ES_ORIENTATION_QUAT on the source; default:
+ * the field's front is the world's -z), turned by the listener's
+ * orientation and the tracked head like every other source, never moved by
+ * the listener's position. ES_SOURCE_RELATIVE makes it turn with the head.
+ * Its ES_GAIN, ES_MIN_GAIN, ES_MAX_GAIN, ES_PITCH and ES_LOOPING apply as to
+ * a point source; position, velocity, distance, cone, Doppler, air
+ * absorption and reverb send do not. The field is decoded to the two ears
+ * by a binaural decoder designed from the world's HRTF set for its order
+ * (MagLS unless ES_AMBISONIC_DECODER says otherwise): designed once per
+ * set, rate and order in a process and kept on disk (docs/AMBISONICS.md):
+ * the esSourcei(ES_BUFFER) or esSourceAmbisonicCallback that first needs an
+ * order may take ~0.3 s, later ones (and later processes) milliseconds. A new HRTF set (esWorldHrtf)
+ * fades each field to the new set's decoder as it does the point sources.
+ *
+ * Conventions: ambiX (ACN channel order, SN3D) is x, y, z = ahead, left, up:
+ * the world's -z, -x, +y. Channel n of ACN is degree l, index m with
+ * n = l^2 + l + m. */
+#define ES_MAX_AMBISONIC_ORDER 7
+#define ES_AMBISONIC_LAYOUT_ACN 0x6000   /* ACN order (ambiX): W Y Z X V T R S U ... */
+#define ES_AMBISONIC_LAYOUT_FUMA 0x6001  /* Furse-Malham order W X Y Z R S T U V K L M N O P Q
+                                          * (orders 1..3) */
+#define ES_AMBISONIC_SCALING_SN3D 0x6010 /* ambiX */
+#define ES_AMBISONIC_SCALING_N3D 0x6011  /* SN3D x sqrt(2l + 1) */
+#define ES_AMBISONIC_SCALING_FUMA 0x6012 /* maxN, W at -3 dB (orders 1..3) */
+/* Source, get only (esGetSourcei): the order of the field the source plays;
+ * 0 for a point source. */
+#define ES_AMBISONIC_ORDER 0x6020
+/* ES_ORIENTATION (6 floats "at", "up") and ES_ORIENTATION_QUAT (w, x, y, z)
+ * also apply to sources: a field's orientation. */
+
+/* A field's audio pulled from the host, on the audio thread inside
+ * esRender: write `frames` frames of each of `channels` = (order + 1)^2
+ * channels, planar (channel c at out[c * frames]), ACN order, SN3D. Must not
+ * block. */
+typedef void (*ESambisoniccallback)(void *user, float *out, ESuint channels, ESuint frames);
+
+/* A buffer of an Ambisonic field: `frames` frames of (order + 1)^2
+ * interleaved channels (channel c of frame i at samples[i * channels + c])
+ * in `layout` and `scaling`, at `sample_rate` (played resampled when it is
+ * not the world's). Converted to ACN/SN3D and copied. FuMa layouts and
+ * scalings stop at order 3. */
+ES_API ESenum esCreateAmbisonicBuffer(ESworld world, const float *samples, ESuint frames, ESuint sample_rate,
+                                      ESuint order, ESenum layout, ESenum scaling, ESbuffer *buffer);
+/* Pull the source's field of `order` from `callback` instead of a buffer
+ * (NULL: none; the source is then a silent point source). */
+ES_API ESenum esSourceAmbisonicCallback(ESworld world, ESsource source, ESuint order, ESambisoniccallback callback,
+                                        void *user);
+
+/* The renderer tier (esWorldi / esGetWorldi): ES_QUALITY_DIRECT (default:
+ * every point source through the measured HRTFs, its own ITD, near field)
+ * or ES_QUALITY_AMBISONIC(N), N = 1..ES_MAX_AMBISONIC_ORDER: each point
+ * source keeps its distance gain, air absorption, Doppler and gain, is
+ * encoded into an order-N Ambisonic bus, and the bus is decoded once per
+ * block: for many sources, at a fraction of the cost (docs/AMBISONICS.md;
+ * no near field, the spatial detail of order N). The renderer for the new
+ * tier is prepared on the calling thread (its decoder designed or read
+ * from the caches) and faded in as esWorldHrtf does (none before the first
+ * block). Control thread. */
+#define ES_QUALITY 0x400A
+#define ES_QUALITY_DIRECT 0x4100
+#define ES_QUALITY_AMBISONIC(order) (0x4100 + (order))
+/* The binaural decoder of fields and of the Ambisonic tier made from now
+ * on: ES_DECODER_MAGLS (default: magnitude least squares above the order's
+ * transition, shadow-weighted) or ES_DECODER_LS (least squares throughout). */
+#define ES_AMBISONIC_DECODER 0x400B
+#define ES_DECODER_MAGLS 0x4110
+#define ES_DECODER_LS 0x4111
+
 /* ---- The function table, for hosts that dlopen the library ------------ */
 typedef struct ESproctable {
   ESuint abi_version; /* ES_ABI_VERSION of the library */
@@ -461,6 +537,9 @@ typedef struct ESproctable {
   ESenum (*GetTrackerImage)(ESworld, EStrackerimage *);
   /* ABI 1.4 */
   ESenum (*AttachTrackerEx)(ESworld, const char *, const char *const *);
+  /* ABI 1.5 */
+  ESenum (*CreateAmbisonicBuffer)(ESworld, const float *, ESuint, ESuint, ESuint, ESenum, ESenum, ESbuffer *);
+  ESenum (*SourceAmbisonicCallback)(ESworld, ESsource, ESuint, ESambisoniccallback, void *);
 } ESproctable;
 
 /* The table for ABI major version `abi_major` (pass ES_ABI_VERSION_MAJOR),

@@ -8,9 +8,9 @@ earshot_unit_test(lv2_core_tests
 target_compile_definitions(lv2_core_tests PRIVATE EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 
 earshot_unit_test(lv2_plugin_tests
-  SOURCES lv2/test_lv2_plugin.cpp audio/alloc_counter.cpp
+  SOURCES lv2/test_lv2_plugin.cpp lv2/test_lv2_ambi_plugin.cpp audio/alloc_counter.cpp
   LIBS earshot_analysis PkgConfig::LV2 ${CMAKE_DL_LIBS}
-  THREAD_TESTS "Lv2Plugin.TrackingFollowsTheSharedSimulatedHead:Lv2Plugin.RunNeverAllocates*")
+  THREAD_TESTS "Lv2Plugin.TrackingFollowsTheSharedSimulatedHead:Lv2Plugin.RunNeverAllocates*:Lv2AmbiPlugin.RunNeverAllocates*")
 target_compile_definitions(lv2_plugin_tests PRIVATE EARSHOT_LV2_BUNDLE="${EARSHOT_LV2_BUNDLE}"
   EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 add_dependencies(lv2_plugin_tests earshot_lv2_bundle)
@@ -51,7 +51,7 @@ endif()
 # The turtle through the LV2 validator (lv2_validate runs sord_validate with
 # every installed LV2 specification).
 add_test(NAME lv2_validate
-  COMMAND sh -c "cd '${EARSHOT_LV2_BUNDLE}' && lv2_validate manifest.ttl earshot.ttl presets.ttl 2>&1 | tee /dev/stderr | grep -q 'Found 0 errors'")
+  COMMAND sh -c "cd '${EARSHOT_LV2_BUNDLE}' && lv2_validate manifest.ttl earshot.ttl presets.ttl ambi.ttl 2>&1 | tee /dev/stderr | grep -q 'Found 0 errors'")
 set_tests_properties(lv2_validate PROPERTIES LABELS "unit;lv2")
 
 # The libraries earshot.so links, all named in docs/LV2.md.

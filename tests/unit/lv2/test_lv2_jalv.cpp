@@ -120,11 +120,13 @@ class Recorder {
 /// ends jalv), its output to a log.
 class Jalv {
  public:
-  Jalv(const std::string& name, const std::vector<std::string>& args, const fs::path& log) : log_(log) {
+  Jalv(const std::string& name, const std::vector<std::string>& args, const fs::path& log,
+       const std::string& uri = "urn:earshot:lv2:panner")
+      : log_(log) {
     setenv("LV2_PATH", EARSHOT_LV2_PATH, 1);
     std::vector<std::string> argv{"timeout", "60", "stdbuf", "-oL", "jalv", "-x", "-n", name};
     argv.insert(argv.end(), args.begin(), args.end());
-    argv.emplace_back("urn:earshot:lv2:panner");
+    argv.push_back(uri);
     std::vector<char*> c;
     for (auto& a : argv) c.push_back(a.data());
     c.push_back(nullptr);
@@ -323,6 +325,71 @@ TEST(Lv2Jalv, SimulatedHeadTheIldFollowsInRealTime) {
   }
   std::printf("jalv + sim: head yaw %.1f..%.1f deg, %d windows turned > 10 deg, side agrees in %d; %d xruns, "
               "DSP load %.1f %%\n", lo, hi, turned, agree, xruns, rec.load());
+  EXPECT_LE(xruns, static_cast<int>(rec.left().size() / 128 / 100)) << "systematic overruns";
+  EXPECT_GT(hi - lo, 10.0) << "the simulated head hardly moved";
+  if (turned > 5) {
+    EXPECT_GE(agree, turned * 9 / 10);
+  }
+}
+
+// The order-1 Ambisonic decoder in jalv: the recorder's noise into W and X
+// (a plane wave from ahead), the simulated head: the ILD of each window has
+// the side the head's yaw (the plugin's head_yaw output) says, as the
+// panner's does above.
+TEST(Lv2Jalv, AmbisonicDecoderFollowsTheSimulatedHead) {
+  DummyJack jack;
+  ASSERT_TRUE(jack.running()) << "jackd did not start; see " << jack.log();
+  const fs::path work = fs::path(EARSHOT_WORK) / "jalv_ambi";
+  fs::create_directories(work);
+  Recorder rec(8.0);
+  ASSERT_TRUE(rec.ok());
+  Jalv jalv("es_ambi", {"-c", "tracking=1", "-c", "tracker_source=1"}, work / "jalv.log",
+            "urn:earshot:lv2:ambi-binaural-o1");
+  ASSERT_TRUE(jalv.ok());
+  ASSERT_TRUE(wait_for(jalv, "roll_offset", 20)) << jalv.output();
+  ASSERT_TRUE(rec.connect("earshot_recorder:noise", "es_ambi:acn0") && rec.connect("earshot_recorder:noise", "es_ambi:acn3") &&
+              rec.connect("es_ambi:out_left", "earshot_recorder:left") &&
+              rec.connect("es_ambi:out_right", "earshot_recorder:right"))
+      << jalv.output();
+  const int xruns_before = rec.xruns();
+  rec.start();
+  std::vector<std::pair<Clock::time_point, double>> yaw;
+  std::size_t seen = 0;
+  const std::regex line(R"(head_yaw = (-?[0-9.]+))");
+  while (!rec.full()) {
+    jalv.command("monitors");
+    const std::string out = jalv.output();
+    const std::size_t end = out.rfind('\n');
+    if (end != std::string::npos && end > seen) {
+      const std::string fresh = out.substr(seen, end - seen);
+      for (auto it = std::sregex_iterator(fresh.begin(), fresh.end(), line); it != std::sregex_iterator(); ++it)
+        yaw.emplace_back(Clock::now(), std::stod((*it)[1]));
+      seen = end;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  const int xruns = rec.xruns() - xruns_before;
+  ASSERT_GT(yaw.size(), 20u) << "jalv printed no head yaw: " << jalv.output().substr(0, 2000);
+  auto yaw_at = [&](Clock::time_point t) {
+    double y = yaw.front().second;
+    for (const auto& [tt, v] : yaw)
+      if (tt <= t) y = v;
+    return y;
+  };
+  const std::size_t win = kRate / 10;
+  int turned = 0, agree = 0;
+  double lo = 1e9, hi = -1e9;
+  for (std::size_t at = 0; at + win <= rec.left().size(); at += win) {
+    const double y = yaw_at(rec.time_of(at + win / 2));
+    lo = std::min(lo, y);
+    hi = std::max(hi, y);
+    if (std::abs(y) < 10) continue;
+    ++turned;
+    const double ild = window_ild(rec, at, win);
+    if ((y > 0) == (ild < 0)) ++agree;  // head left: the wave from ahead on the right
+  }
+  std::printf("jalv + ambi-binaural-o1 + sim: head yaw %.1f..%.1f deg, %d windows turned > 10 deg, side agrees in %d; "
+              "%d xruns, DSP load %.1f %%\n", lo, hi, turned, agree, xruns, rec.load());
   EXPECT_LE(xruns, static_cast<int>(rec.left().size() / 128 / 100)) << "systematic overruns";
   EXPECT_GT(hi - lo, 10.0) << "the simulated head hardly moved";
   if (turned > 5) {

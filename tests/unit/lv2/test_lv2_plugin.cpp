@@ -85,7 +85,11 @@ class Host {
     auto fn = reinterpret_cast<LV2_Descriptor_Function>(dlsym(dl_, "lv2_descriptor"));
     if (!fn) throw std::runtime_error("no lv2_descriptor");
     desc_ = fn(0);
-    if (!desc_ || std::string(desc_->URI) != kUri || fn(1) != nullptr) throw std::runtime_error("bad descriptor");
+    // Then the Ambisonic decoders, orders 1-5 (test_lv2_ambi_plugin.cpp), and no more.
+    if (!desc_ || std::string(desc_->URI) != kUri || fn(6) != nullptr) throw std::runtime_error("bad descriptor");
+    for (std::uint32_t i = 1; i <= 5; ++i)
+      if (!fn(i) || std::string(fn(i)->URI) != "urn:earshot:lv2:ambi-binaural-o" + std::to_string(i))
+        throw std::runtime_error("bad Ambisonic descriptor");
     worker_ = static_cast<const LV2_Worker_Interface*>(desc_->extension_data(LV2_WORKER__interface));
     state_ = static_cast<const LV2_State_Interface*>(desc_->extension_data(LV2_STATE__interface));
     map_.uris.reserve(256);

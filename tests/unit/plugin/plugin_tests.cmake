@@ -41,12 +41,14 @@ set_tests_properties(plugin_exports plugin_bridge_exports PROPERTIES LABELS "uni
 # test_tracker_image renders a webcam video (earshot::webcam_sim) to play.
 earshot_unit_test(plugin_tests
   SOURCES plugin/test_plugin.cpp plugin/test_tracker_state.cpp plugin/test_world_hrtf.cpp audio/alloc_counter.cpp
-    plugin/test_tracker_image.cpp
+    plugin/test_tracker_image.cpp plugin/test_ambisonic_world.cpp
     ${PROJECT_SOURCE_DIR}/plugin/src/tracker_state.cpp
-  LIBS earshot_plugin earshot::tracker_live earshot::webcam_sim earshot_analysis ${CMAKE_DL_LIBS} Threads::Threads
+  LIBS earshot_plugin earshot::tracker_live earshot::webcam_sim earshot::ambisonics earshot_analysis ${CMAKE_DL_LIBS}
+    Threads::Threads
   # Misuse from other threads, control and audio threads together, the live
   # tracker thread behind a world (single-threaded API tests run once).
-  THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*:WorldHrtf.*Thread*:TrackerImage.*")
+  THREAD_TESTS "PluginMisuse.*:PluginThreads.*:PluginHead.*" "TrackerState.*:WorldHrtf.*Thread*:TrackerImage.*"
+    "AmbisonicThreads.*")
 target_include_directories(plugin_tests PRIVATE ${PROJECT_SOURCE_DIR}/plugin/src)
 target_compile_definitions(plugin_tests PRIVATE EARSHOT_MAKE_SOFA="${PROJECT_SOURCE_DIR}/tests/fixtures/make_sofa.py")
 

@@ -15,6 +15,14 @@
 // The mix goes through the master gain and a peak limiter, so the output
 // never exceeds full scale and never holds NaN or infinity.
 //
+// The Ambisonic tier: a renderer made with a SourceBus (source_bus.hpp)
+// renders every source up to its HRTF as above (distance gain, cone, air
+// absorption, propagation delay and Doppler, one delay read instead of one
+// per ear) and hands it to the bus, which encodes it into an order-N
+// Ambisonic bus and decodes that once per block; no direction bank, no
+// near field (the decoder's filters carry the ITD). The mix, the reverb
+// send and the limiter are the same.
+//
 // Threads: configure sources and the listener from one control thread
 // between render() calls (the plugin adds the lock-free hand-off); render()
 // itself never allocates, locks, logs or does I/O.
@@ -36,6 +44,7 @@
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/hrtf_spectra.hpp"
 #include "earshot/audio/near_field.hpp"
+#include "earshot/audio/source_bus.hpp"
 #include "earshot/geometry.hpp"
 #include "earshot/head_pose.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
@@ -86,6 +95,9 @@ class Renderer {
   /// Uses prepared data (e.g. from HrtfCache), shared with other renderers:
   /// its spectra must be for cfg.block.
   Renderer(const PreparedHrtf& hrtf, RendererConfig cfg);
+  /// The Ambisonic tier: every source goes into `bus` (which must take
+  /// cfg.max_sources voices) instead of the direction bank.
+  Renderer(const PreparedHrtf& hrtf, RendererConfig cfg, std::unique_ptr<SourceBus> bus);
   ~Renderer();
 
   /// Adds a source; returns its index, or -1 when max_sources are in use.
@@ -114,13 +126,18 @@ class Renderer {
   [[nodiscard]] const RendererConfig& config() const { return cfg_; }
   /// Convolutions (measured direction x ear) the last render() ran: what
   /// the sources' filter blends cost (benchmarks report it per source).
-  [[nodiscard]] std::size_t convolutions() const { return bank_->lanes_run(); }
+  [[nodiscard]] std::size_t convolutions() const { return bank_ ? bank_->lanes_run() : 0; }
+  /// The Ambisonic tier's bus, or null for the direct renderer.
+  [[nodiscard]] const SourceBus* bus() const { return bus_.get(); }
 
  private:
   struct Voice;
   // The steps of render(), per source (renderer.cpp).
   void prefetch_after(std::size_t s) const;  // the next sources' state and lanes, on their way to the cache
   void render_source(Voice& v, const HeadPose& listener, double listener_gain);
+  void render_to_bus(std::size_t index, Voice& v, const HeadPose& listener, double listener_gain);  // the tier
+  [[nodiscard]] double source_gain(const Voice& v, const HeadFrame& hr, const HeadPose& frame, double listener_gain) const;
+  void add_send(const Voice& v, double g0, double g);
   void aim_far(Voice& v, const HeadFrame& hr);   // the blend of measurements towards the source
   void aim_near(Voice& v, const HeadFrame& hr);  // each ear's own blend and the near ITD (parallax)
   [[nodiscard]] double propagation_delay(Voice& v, const HeadFrame& hr, const HeadPose& frame) const;  // samples
@@ -135,7 +152,8 @@ class Renderer {
   std::vector<std::unique_ptr<Voice>> voices_;
   std::size_t active_ = 0;
   std::shared_ptr<const NearFieldTable> near_field_;  // shared by every renderer at this rate and set; null when off
-  std::unique_ptr<DirectionBank> bank_;  // the measured directions' convolvers, shared by every voice
+  std::unique_ptr<DirectionBank> bank_;  // the measured directions' convolvers, shared by every voice; null in the tier
+  std::unique_ptr<SourceBus> bus_;       // the Ambisonic tier's bus, or null
   std::vector<float> send_, ret_l_, ret_r_, mix_l_, mix_r_;
   double limiter_gain_ = 1.0;
 };

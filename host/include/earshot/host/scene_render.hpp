@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <functional>
 #include <optional>
+#include <string>
 
 #include "earshot/host/wav_writer.hpp"
 #include "earshot/scenes/scene.hpp"
@@ -20,6 +21,10 @@ struct RenderOptions {
   std::filesystem::path hrtf;         ///< empty: the default MIT KEMAR set
   std::optional<std::filesystem::path> pose_track;  ///< overrides the scene's
   WavFormat format = WavFormat::float32;
+  /// The renderer tier, overriding the scene's: "direct" or "ambisonic:N".
+  std::optional<std::string> quality;
+  /// The binaural decoder of beds and of the Ambisonic tier: "magls" or "ls".
+  std::string decoder = "magls";
   /// Called now and then with the fraction done (0..1).
   std::function<void(double)> progress;
   /// Asked before each block; true ends the render there (e.g. on SIGTERM):

@@ -2,7 +2,9 @@
 // source fed by the scene's generator (scenes::SignalSource, run inside
 // esRender on the audio thread), with the scene's gain, distance model and
 // sends, moved along its path by move() -- once per block offline, once per
-// control tick live. Everything here runs on the world's control thread.
+// control tick live. The scene's Ambisonic beds are field sources
+// (esSourceAmbisonicCallback) fed by FieldPlayers (field_player.hpp), read
+// ahead by move(). Everything here runs on the world's control thread.
 #pragma once
 
 #include <array>
@@ -13,6 +15,7 @@
 #include <vector>
 
 #include "earshot/audio/distance_model.hpp"
+#include "earshot/host/field_player.hpp"
 #include "earshot/host/world_handle.hpp"
 #include "earshot/scenes/motion_path.hpp"
 #include "earshot/scenes/scene.hpp"
@@ -58,12 +61,17 @@ class SceneSources {
 
   [[nodiscard]] const scenes::Scene& scene() const { return scene_; }
   [[nodiscard]] std::size_t size() const { return ids_.size(); }
+  /// The beds' sources and players (in the scene's order).
+  [[nodiscard]] std::size_t bed_count() const { return bed_ids_.size(); }
+  [[nodiscard]] ESsource bed_id(std::size_t i) const { return bed_ids_[i]; }
+  [[nodiscard]] const FieldPlayer& bed_player(std::size_t i) const { return *players_[i]; }
   /// The plugin's handle of source `i` (for a host's own calls).
   [[nodiscard]] ESsource id(std::size_t i) const { return ids_[i]; }
 
  private:
   [[nodiscard]] std::string field(std::size_t i, const char* name) const;
   void add_source(std::size_t i);
+  void add_bed(std::size_t i);
   void delete_sources();
 
   const WorldHandle& world_;
@@ -75,6 +83,8 @@ class SceneSources {
   // Sounds replaced or dropped are kept (retired) until destruction: the
   // audio thread may still be inside one when its source changes.
   std::vector<std::unique_ptr<scenes::SignalSource>> sounds_, retired_;
+  std::vector<ESsource> bed_ids_;
+  std::vector<std::unique_ptr<FieldPlayer>> players_, retired_players_;
 };
 
 }  // namespace earshot::host

@@ -9,6 +9,15 @@
 //                 "position": [0,0,-1], "gain_db": 0, "distance_model": "inverse-clamped",
 //                 "reference_distance": 1, "rolloff": 1, "max_distance": 100,
 //                 "reverb_send_db": -120, "air_absorption": 0}]}
+//    "beds": [{"name": "b", "path": "field.wav", "convention": "ambix", "gain_db": 0,
+//              "yaw_deg": 0, "pitch_deg": 0, "roll_deg": 0, "loop": false}],
+//    "quality": "direct"}                             (or "ambisonic:N", N = 1..7)
+// A bed is an Ambisonic file (WAV, CAF, W64, ... through libsndfile; ambiX
+// unless "convention" says n3d or fuma; order from the channel count) played
+// as a sound field around the listener, turned by its head, never moved by
+// its position; yaw/pitch/roll turn the field in the world (positive yaw
+// to the left). "sources" may be left out when there are beds.
+// quality: the renderer tier of the point sources (the C API's ES_QUALITY).
 // A source has a fixed "position" or a moving "path" (motion_path.hpp), e.g.
 //   "path": {"type": "circle", "centre": [0,0,0], "radius": 2, "plane": "xz", "period_s": 8}
 // Signals: noise {seed}, sine {frequency_hz}, impulse {}, file {path, loop}
@@ -70,6 +79,16 @@ struct SceneSource {
   double air_absorption = 0.0;
 };
 
+/// An Ambisonic bed: a file played as a sound field.
+struct SceneBed {
+  std::string name;
+  std::filesystem::path path;    ///< resolved against the scene's directory
+  std::string convention = "ambix";  ///< "ambix", "n3d" or "fuma"
+  double gain_db = 0.0;
+  double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;  ///< the field's orientation in the world
+  bool loop = false;
+};
+
 struct SceneListener {
   std::array<double, 3> position{0, 0, 0};
   double yaw_deg = 0, pitch_deg = 0, roll_deg = 0;
@@ -88,7 +107,13 @@ struct Scene {
   SceneListener listener;
   std::optional<std::filesystem::path> pose_track;
   std::vector<SceneSource> sources;
+  std::vector<SceneBed> beds;
+  std::string quality = "direct";  ///< "direct" or "ambisonic:N"
 };
+
+/// The order a quality names: 0 for "direct", N for "ambisonic:N" (1..7);
+/// nullopt for anything else.
+[[nodiscard]] std::optional<int> quality_order(std::string_view quality);
 
 /// True for "none" and every room preset name (audio/room_presets.hpp).
 [[nodiscard]] bool is_room_name(std::string_view name);

@@ -32,6 +32,10 @@ class Encoder {
   /// non-finite direction is ignored.
   void update(const Vec3& direction, float gain = 1.0f);
 
+  /// Forgets the last direction: the next update() starts there, with no
+  /// glide (a new source in this encoder).
+  void reset() { started_ = false; }
+
   /// Adds `in` (block() samples) into `bus` (channels() x block() planar).
   void process(std::span<const float> in, std::span<float> bus);
 

@@ -27,6 +27,7 @@ packages=(
   libopenal-dev libopenal-data   # OpenAL Soft: reference HRTF renderer in benchmarks, the plugin's OpenAL bridge
   clang libclang-rt-14-dev   # libFuzzer targets and sanitizer runtimes
   python3 python3-matplotlib python3-numpy   # PNG plots (tools/)
+  python3-clang-14       # libclang for tools/longest_functions.py (the longest functions, a check of the house)
   python3-netcdf4        # writes the SOFA test fixtures (tests/fixtures/make_sofa.py), tests only
   portaudio19-dev        # real-time audio output of `earshot demo` (Debian's is built with JACK and ALSA)
   jackd2 libjack-jackd2-dev  # JACK: the demo's end-to-end test plays through its dummy driver (no sound card)

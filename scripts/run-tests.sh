@@ -8,7 +8,7 @@
 # Every tree is a unity build (EARSHOT_UNITY_BUILD, CMakeLists.txt).
 #   scripts/run-tests.sh                  quick suites (what CI runs)
 #   EARSHOT_SLOW=1 scripts/run-tests.sh   also the slow label
-#   EARSHOT_FUZZ_SECONDS=N                fuzz each target N s (default 20)
+#   EARSHOT_FUZZ_SECONDS=N                fuzz each target N s (default 15)
 # Each stage prints its wall time; the total is the README's figure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -42,12 +42,12 @@ stage "ASan+UBSan build (clang: unit tests and fuzz targets)"
 CC=clang CXX=clang++ cmake -S . -B build/asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1" -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
   -DEARSHOT_SANITIZE=address,undefined -DEARSHOT_BUILD_BENCH=OFF -DEARSHOT_BUILD_FUZZ=ON \
-  -DEARSHOT_FUZZ_SECONDS="${EARSHOT_FUZZ_SECONDS:-20}" >/dev/null
+  -DEARSHOT_FUZZ_SECONDS="${EARSHOT_FUZZ_SECONDS:-15}" >/dev/null
 cmake --build build/asan -j "$jobs"
 stage "ASan+UBSan unit tests"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir build/asan --output-on-failure -j "$test_jobs" -L unit "${label_args[@]}"
-stage "fuzz smoke (${EARSHOT_FUZZ_SECONDS:-20} s per target, two at a time)"
+stage "fuzz smoke (${EARSHOT_FUZZ_SECONDS:-15} s per target, two at a time)"
 ctest --test-dir build/asan -L fuzz --output-on-failure -j "$jobs"
 
 stage "TSan build (threaded tests, label threads)"

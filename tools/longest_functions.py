@@ -2,7 +2,7 @@
 """Lists the longest functions of the libraries and apps (not tests).
 
 Parses every source file of a build tree's compile_commands.json that lies in
-one of the project's library or app folders with libclang (Debian's
+one of the project's library or app folders (or every unity batch that holds one) with libclang (Debian's
 python3-clang-14) and prints the function bodies defined there, longest
 first, as lines from the opening to the closing brace:
 
@@ -47,6 +47,21 @@ def source_dir(build):
             if line.startswith("CMAKE_HOME_DIRECTORY:"):
                 return line.split("=", 1)[1].strip()
     return os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+
+def ours(path, root):
+    """A source in the project's folders, or a unity batch (EARSHOT_UNITY_BUILD) that includes one."""
+    if os.path.relpath(path, root).split(os.sep)[0] in FOLDERS:
+        return True
+    if os.path.basename(os.path.dirname(path)) != "Unity":
+        return False
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#include"):
+                inc = line.split('"')[1] if '"' in line else ""
+                if inc and os.path.relpath(os.path.abspath(inc), root).split(os.sep)[0] in FOLDERS:
+                    return True
+    return False
 
 
 def qualified(c):
@@ -107,8 +122,7 @@ def main():
     jobs, seen = [], set()
     for entry in json.load(open(cc)):
         path = os.path.abspath(os.path.join(entry["directory"], entry["file"]))
-        rel = os.path.relpath(path, root)
-        if rel.split(os.sep)[0] not in FOLDERS or path in seen or not path.endswith((".cpp", ".cc", ".c")):
+        if path in seen or not path.endswith((".cpp", ".cc", ".c", ".cxx")) or not ours(path, root):
             continue
         seen.add(path)
         args = entry.get("arguments") or entry["command"].split()

@@ -86,6 +86,37 @@ struct Preset {
   const char* send;
 };
 
+// Port properties both plugins use.
+const std::string kToggle = "\t\t\tlv2:portProperty lv2:toggled ;\n";
+const std::string kSources =
+    "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label \"wiimote\" ; "
+    "rdf:value 0 ] , [ rdfs:label \"sim\" ; rdf:value 1 ] , [ rdfs:label \"opentrack\" ; rdf:value 2 ] , "
+    "[ rdfs:label \"osc\" ; rdf:value 3 ] ;\n";
+const std::string kTrigger = "\t\t\tlv2:portProperty lv2:toggled , pprops:trigger ;\n";
+const std::string kLatency = "\t\t\tlv2:designation lv2:latency ;\n\t\t\tlv2:portProperty lv2:reportsLatency , "
+                             "lv2:integer ;\n";
+
+/// The tracker spec parameter (a patch:writable string) under `uri`.
+void tracker_parameter(std::ostream& o, const std::string& uri) {
+  o << "<" << uri << ">\n\ta lv2:Parameter ;\n\trdfs:label \"Tracker spec\" ;\n"
+       "\trdfs:comment \"A full tracker spec (wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT], with @ADDR to "
+       "listen beyond 127.0.0.1); empty: the tracker_source port decides.\" ;\n"
+       "\trdfs:range atom:String .\n\n";
+}
+
+/// The ports after the head-tracking controls: latency and the head's
+/// yaw, pitch and roll as outputs. `last`: end the port list.
+void latency_and_head_ports(std::ostream& o, int& index, bool last) {
+  control_port(o, index++, {"latency", "Latency", 0, 0, 8192, "frame", kLatency.c_str()}, true);
+  o << " ,\n";
+  control_port(o, index++, {"head_yaw", "Head yaw", 0, -180, 180, "degree", ""}, true);
+  o << " ,\n";
+  control_port(o, index++, {"head_pitch", "Head pitch", 0, -90, 90, "degree", ""}, true);
+  o << " ,\n";
+  control_port(o, index++, {"head_roll", "Head roll", 0, -180, 180, "degree", ""}, true);
+  o << (last ? " .\n\n" : " ,\n");
+}
+
 std::vector<Preset> presets() {
   // Every preset sets every control a person would set, so one applied
   // after another leaves nothing of the first behind.
@@ -129,18 +160,7 @@ bool write_ambi_ttl(const std::string& dir, const std::string& library, std::ost
   namespace ambi = earshot::lv2::ambi;
   std::ofstream o(dir + "/ambi.ttl");
   o << kPrefixes << "\n";
-  o << "<" << ambi::kTrackerParameter << ">\n\ta lv2:Parameter ;\n\trdfs:label \"Tracker spec\" ;\n"
-       "\trdfs:comment \"A full tracker spec (wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT], with @ADDR to "
-       "listen beyond 127.0.0.1); empty: the tracker_source port decides.\" ;\n"
-       "\trdfs:range atom:String .\n\n";
-  const std::string toggle = "\t\t\tlv2:portProperty lv2:toggled ;\n";
-  const std::string sources =
-      "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label \"wiimote\" ; "
-      "rdf:value 0 ] , [ rdfs:label \"sim\" ; rdf:value 1 ] , [ rdfs:label \"opentrack\" ; rdf:value 2 ] , "
-      "[ rdfs:label \"osc\" ; rdf:value 3 ] ;\n";
-  const std::string trigger = "\t\t\tlv2:portProperty lv2:toggled , pprops:trigger ;\n";
-  const std::string latency = "\t\t\tlv2:designation lv2:latency ;\n\t\t\tlv2:portProperty lv2:reportsLatency , "
-                              "lv2:integer ;\n";
+  tracker_parameter(o, ambi::kTrackerParameter);
   for (int order = 1; order <= ambi::kOrders; ++order) {
     const std::string uri = EARSHOT_LV2_AMBI_URI_PREFIX + std::to_string(order);
     const int channels = (order + 1) * (order + 1);
@@ -180,9 +200,9 @@ bool write_ambi_ttl(const std::string& dir, const std::string& library, std::ost
     atom(true, "control", "Control");
     atom(false, "notify", "Notify");
     const Control inputs[] = {
-        {"tracking", "Head tracking", 0, 0, 1, nullptr, toggle.c_str()},
-        {"tracker_source", "Tracker", 0, 0, 3, nullptr, sources.c_str()},
-        {"recenter", "Recenter", 0, 0, 1, nullptr, trigger.c_str()},
+        {"tracking", "Head tracking", 0, 0, 1, nullptr, kToggle.c_str()},
+        {"tracker_source", "Tracker", 0, 0, 3, nullptr, kSources.c_str()},
+        {"recenter", "Recenter", 0, 0, 1, nullptr, kTrigger.c_str()},
         {"yaw_offset", "Yaw offset (positive left)", 0, -180, 180, "degree", ""},
         {"pitch_offset", "Pitch offset (positive up)", 0, -90, 90, "degree", ""},
         {"roll_offset", "Roll offset (positive right)", 0, -180, 180, "degree", ""},
@@ -191,14 +211,7 @@ bool write_ambi_ttl(const std::string& dir, const std::string& library, std::ost
       control_port(o, index++, c);
       o << " ,\n";
     }
-    control_port(o, index++, {"latency", "Latency", 0, 0, 8192, "frame", latency.c_str()}, true);
-    o << " ,\n";
-    control_port(o, index++, {"head_yaw", "Head yaw", 0, -180, 180, "degree", ""}, true);
-    o << " ,\n";
-    control_port(o, index++, {"head_pitch", "Head pitch", 0, -90, 90, "degree", ""}, true);
-    o << " ,\n";
-    control_port(o, index++, {"head_roll", "Head roll", 0, -180, 180, "degree", ""}, true);
-    o << " .\n\n";
+    latency_and_head_ports(o, index, true);
     if (index != channels + static_cast<int>(ambi::kPortsAfterInputs)) {
       std::cerr << "earshot_lv2_ttl: the Ambisonic ports written do not match ambi_plugin.hpp\n";
       return false;
@@ -209,15 +222,10 @@ bool write_ambi_ttl(const std::string& dir, const std::string& library, std::ost
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 3) {
-    std::cerr << "usage: earshot_lv2_ttl BUNDLE_DIR LIBRARY_FILE_NAME\n";
-    return 2;
-  }
-  const std::string dir = argv[1], library = argv[2];
-  std::ofstream manifest(dir + "/manifest.ttl");
-  manifest << kPrefixes << "\n<" EARSHOT_LV2_URI ">\n\ta lv2:Plugin ;\n\tlv2:binary <" << library
-           << "> ;\n\trdfs:seeAlso <earshot.ttl> .\n";
+namespace {
+
+/// The panner's presets (presets()) into presets.ttl, each listed in the manifest.
+bool write_presets_ttl(const std::string& dir, std::ostream& manifest) {
   std::ofstream pset(dir + "/presets.ttl");
   pset << kPrefixes << "\n";
   for (const Preset& p : presets()) {
@@ -232,16 +240,17 @@ int main(int argc, char** argv) {
     pset << " ;\n\tstate:state [\n\t\t<" EARSHOT_LV2_TRACKER "> \"" << p.tracker << "\" ;\n\t\t<" EARSHOT_LV2_SEND
          << "> \"" << p.send << "\"\n\t] .\n\n";
   }
+  return static_cast<bool>(pset);
+}
 
-  std::ofstream o(dir + "/earshot.ttl");
+/// The panner's parameters, project and plugin, up to its five fixed ports
+/// (audio in, left, right, control and notify).
+void panner_header(std::ostream& o) {
   o << kPrefixes << "\n";
   o << "<" EARSHOT_LV2_SOFA ">\n\ta lv2:Parameter ;\n\trdfs:label \"HRTF set (SOFA file)\" ;\n"
        "\trdfs:comment \"A SimpleFreeFieldHRIR SOFA file; the default is the MIT KEMAR set libmysofa ships.\" ;\n"
        "\trdfs:range atom:Path .\n\n";
-  o << "<" EARSHOT_LV2_TRACKER ">\n\ta lv2:Parameter ;\n\trdfs:label \"Tracker spec\" ;\n"
-       "\trdfs:comment \"A full tracker spec (wiimote, sim, replay:FILE, opentrack[:PORT], osc[:PORT], with @ADDR to "
-       "listen beyond 127.0.0.1); empty: the tracker_source port decides.\" ;\n"
-       "\trdfs:range atom:String .\n\n";
+  tracker_parameter(o, EARSHOT_LV2_TRACKER);
   o << "<" EARSHOT_LV2_SEND ">\n\ta lv2:Parameter ;\n\trdfs:label \"Send poses to\" ;\n"
        "\trdfs:comment \"Where the tracker also sends its poses, ';' between several: osc[:HOST][:PORT]"
        "[,format=earshot|sparta|iem|iem-ypr][,rate=HZ] or opentrack[:HOST][:PORT][,rate=HZ]; 127.0.0.1 unless a host "
@@ -275,24 +284,33 @@ int main(int argc, char** argv) {
        "\t\t\tatom:supports patch:Message ;\n\t\t\tlv2:designation lv2:control ;\n"
        "\t\t\tlv2:portProperty lv2:connectionOptional ;\n\t\t\tlv2:index 4 ;\n\t\t\tlv2:symbol \"notify\" ;\n"
        "\t\t\tlv2:name \"Notify\" ;\n\t\t] ,\n";
+}
 
+/// The distance models' and the room presets' scale points (port properties).
+std::string distance_model_points() {
   std::string models;
   for (std::size_t i = 0; i < earshot::host::kDistanceModels.size(); ++i)
     models += std::string(i ? " , " : "\t\t\tlv2:scalePoint ") + "[ rdfs:label \"" +
               earshot::host::kDistanceModels[i].name + "\" ; rdf:value " + std::to_string(i) + " ]";
   models = "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n" + models + " ;\n";
+  return models;
+}
+
+std::string room_points() {
   std::string rooms = "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label "
                       "\"none\" ; rdf:value 0 ]";
   const auto presets = earshot::audio::room_presets();
   for (std::size_t i = 0; i < presets.size(); ++i)
     rooms += " , [ rdfs:label \"" + std::string(presets[i].name) + "\" ; rdf:value " + std::to_string(i + 1) + " ]";
   rooms += " ;\n";
-  const std::string toggle = "\t\t\tlv2:portProperty lv2:toggled ;\n";
-  const std::string sources =
-      "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label \"wiimote\" ; "
-      "rdf:value 0 ] , [ rdfs:label \"sim\" ; rdf:value 1 ] , [ rdfs:label \"opentrack\" ; rdf:value 2 ] , "
-      "[ rdfs:label \"osc\" ; rdf:value 3 ] ;\n";
-  const std::string trigger = "\t\t\tlv2:portProperty lv2:toggled , pprops:trigger ;\n";
+  return rooms;
+}
+
+/// The panner's control ports from index 5 on; the appended ones last, in
+/// the order of their minor versions.
+void panner_controls(std::ostream& o) {
+  const std::string models = distance_model_points(), rooms = room_points();
+  const auto rooms_count = earshot::audio::room_presets().size();
   const std::string log_scale = "\t\t\tlv2:portProperty pprops:logarithmic ;\n";
 
   const Control inputs[] = {
@@ -301,11 +319,11 @@ int main(int argc, char** argv) {
       {"distance", "Distance", 1, 0.1, 100, "m", log_scale.c_str()},
       {"gain", "Gain", 0, -60, 12, "db", ""},
       {"distance_model", "Distance model", 2, 0, 6, nullptr, models.c_str()},
-      {"room", "Room", 0, 0, static_cast<double>(presets.size()), nullptr, rooms.c_str()},
+      {"room", "Room", 0, 0, static_cast<double>(rooms_count), nullptr, rooms.c_str()},
       {"reverb_send", "Reverb send", -12, -60, 6, "db", ""},
-      {"tracking", "Head tracking", 0, 0, 1, nullptr, toggle.c_str()},
-      {"tracker_source", "Tracker", 0, 0, 3, nullptr, sources.c_str()},
-      {"recenter", "Recenter", 0, 0, 1, nullptr, trigger.c_str()},
+      {"tracking", "Head tracking", 0, 0, 1, nullptr, kToggle.c_str()},
+      {"tracker_source", "Tracker", 0, 0, 3, nullptr, kSources.c_str()},
+      {"recenter", "Recenter", 0, 0, 1, nullptr, kTrigger.c_str()},
       {"yaw_offset", "Yaw offset (positive left)", 0, -180, 180, "degree", ""},
       {"pitch_offset", "Pitch offset (positive up)", 0, -90, 90, "degree", ""},
       {"roll_offset", "Roll offset (positive right)", 0, -180, 180, "degree", ""},
@@ -315,16 +333,7 @@ int main(int argc, char** argv) {
     control_port(o, index++, c);
     o << " ,\n";
   }
-  const std::string latency = "\t\t\tlv2:designation lv2:latency ;\n\t\t\tlv2:portProperty lv2:reportsLatency , "
-                              "lv2:integer ;\n";
-  control_port(o, index++, {"latency", "Latency", 0, 0, 8192, "frame", latency.c_str()}, true);
-  o << " ,\n";
-  control_port(o, index++, {"head_yaw", "Head yaw", 0, -180, 180, "degree", ""}, true);
-  o << " ,\n";
-  control_port(o, index++, {"head_pitch", "Head pitch", 0, -90, 90, "degree", ""}, true);
-  o << " ,\n";
-  control_port(o, index++, {"head_roll", "Head roll", 0, -180, 180, "degree", ""}, true);
-  o << " ,\n";
+  latency_and_head_ports(o, index, false);
   // Appended in minor version 2: a host's saved session keeps its port numbers.
   const std::string enabled = "\t\t\tlv2:designation lv2:enabled ;\n\t\t\tlv2:portProperty lv2:toggled ;\n";
   const std::string order = "\t\t\tlv2:portProperty lv2:integer , lv2:enumeration ;\n\t\t\tlv2:scalePoint [ rdfs:label "
@@ -333,10 +342,10 @@ int main(int argc, char** argv) {
   const Control appended[] = {
       {"enabled", "Enabled", 1, 0, 1, nullptr, enabled.c_str(),
        "Off: the input, delayed by the latency, on both channels (a 21 ms fade either way)"},
-      {"invert_yaw", "Invert yaw", 0, 0, 1, nullptr, toggle.c_str(),
+      {"invert_yaw", "Invert yaw", 0, 0, 1, nullptr, kToggle.c_str(),
        "Turn the head's yaw the other way (as IEM SceneRotator's switch)"},
-      {"invert_pitch", "Invert pitch", 0, 0, 1, nullptr, toggle.c_str(), "Turn the head's pitch the other way"},
-      {"invert_roll", "Invert roll", 0, 0, 1, nullptr, toggle.c_str(), "Turn the head's roll the other way"},
+      {"invert_pitch", "Invert pitch", 0, 0, 1, nullptr, kToggle.c_str(), "Turn the head's pitch the other way"},
+      {"invert_roll", "Invert roll", 0, 0, 1, nullptr, kToggle.c_str(), "Turn the head's roll the other way"},
       {"rotation_order", "Rotation order", 0, 0, 1, nullptr, order.c_str(),
        "The order the head's yaw, pitch and roll are put together in (as IEM SceneRotator's sequence)"},
       {"osc_port", "OSC port", 9000, 1, 65535, nullptr, port.c_str(),
@@ -348,8 +357,25 @@ int main(int argc, char** argv) {
     control_port(o, index++, appended[i]);
     o << (i + 1 < std::size(appended) ? " ,\n" : " .\n");
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::cerr << "usage: earshot_lv2_ttl BUNDLE_DIR LIBRARY_FILE_NAME\n";
+    return 2;
+  }
+  const std::string dir = argv[1], library = argv[2];
+  std::ofstream manifest(dir + "/manifest.ttl");
+  manifest << kPrefixes << "\n<" EARSHOT_LV2_URI ">\n\ta lv2:Plugin ;\n\tlv2:binary <" << library
+           << "> ;\n\trdfs:seeAlso <earshot.ttl> .\n";
+  const bool presets_ok = write_presets_ttl(dir, manifest);
+  std::ofstream o(dir + "/earshot.ttl");
+  panner_header(o);
+  panner_controls(o);
   const bool ambi_ok = write_ambi_ttl(dir, library, manifest);
-  if (!o || !manifest || !pset || !ambi_ok) {
+  if (!o || !manifest || !presets_ok || !ambi_ok) {
     std::cerr << "earshot_lv2_ttl: cannot write the turtle into " << dir << "\n";
     return 1;
   }

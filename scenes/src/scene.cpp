@@ -259,6 +259,89 @@ MotionPath parse_path(const json& j, std::string_view origin, const std::string&
   return out;
 }
 
+/// "listener": the head's size and the listener's pose in the room.
+SceneListener parse_listener(const json& j, std::string_view origin) {
+  Fields l(j, origin, "listener");
+  SceneListener out;
+  if (l.has("head_size")) {
+    const json& h = l.at("head_size");
+    if (h.is_number()) {
+      const double r = h.get<double>();
+      if (!(r >= 0.05 && r <= 0.15)) l.fail("head_size", "radius out of range: " + h.dump() + " (0.05 to 0.15 m)");
+      out.head_radius_m = r;
+    } else if (h == "small") {
+      out.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::small);
+    } else if (h == "medium") {
+      out.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::medium);
+    } else if (h == "large") {
+      out.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::large);
+    } else if (h != "measured") {
+      l.fail("head_size", "expected measured, small, medium, large or a radius in metres, got " + h.dump());
+    }
+  }
+  out.position = l.vec3("position", {0, 0, 0});
+  out.yaw_deg = l.number("yaw_deg", 0, -360, 360);
+  out.pitch_deg = l.number("pitch_deg", 0, -90, 90);
+  out.roll_deg = l.number("roll_deg", 0, -360, 360);
+  l.done();
+  return out;
+}
+
+/// "beds": the Ambisonic recordings played around the listener.
+std::vector<SceneBed> parse_beds(Fields& f, std::string_view origin, const std::filesystem::path& base) {
+  std::vector<SceneBed> out;
+  const json& beds = f.at("beds");
+  if (!beds.is_array()) f.fail("beds", "expected an array of beds");
+  for (std::size_t i = 0; i < beds.size(); ++i) {
+    Fields bf(beds[i], origin, "beds[" + std::to_string(i) + "]");
+    SceneBed b;
+    b.name = bf.text("name", "bed " + std::to_string(i + 1));
+    if (!bf.has("path")) bf.fail("path", "missing (an Ambisonic file)");
+    b.path = resolve(base, bf.text("path", ""));
+    b.convention = bf.text("convention", "ambix");
+    if (b.convention != "ambix" && b.convention != "n3d" && b.convention != "fuma")
+      bf.fail("convention", "unknown convention '" + b.convention + "' (ambix, n3d, fuma)");
+    b.gain_db = bf.number("gain_db", 0, -120, 40);
+    b.yaw_deg = bf.number("yaw_deg", 0, -360, 360);
+    b.pitch_deg = bf.number("pitch_deg", 0, -90, 90);
+    b.roll_deg = bf.number("roll_deg", 0, -360, 360);
+    if (bf.has("loop")) {
+      if (!bf.at("loop").is_boolean()) bf.fail("loop", "expected true or false");
+      b.loop = bf.at("loop").get<bool>();
+    }
+    bf.done();
+    out.push_back(std::move(b));
+  }
+  return out;
+}
+
+/// One entry of "sources": its signal, where it is or moves, how it fades.
+SceneSource parse_source(const json& j, std::size_t i, std::string_view origin, const std::filesystem::path& base) {
+  const std::string where = "sources[" + std::to_string(i) + "]";
+  Fields sf(j, origin, where);
+  SceneSource src;
+  src.name = sf.text("name", "source " + std::to_string(i + 1));
+  if (!sf.has("signal")) sf.fail("signal", "missing");
+  src.signal = parse_signal(sf.at("signal"), origin, where + ".signal", base);
+  if (sf.has("path") && sf.has("position")) sf.fail("path", "a source has a position or a path, not both");
+  if (sf.has("path")) src.path = parse_path(sf.at("path"), origin, where + ".path");
+  src.position = sf.vec3("position", {0, 0, -1});
+  if (src.path) src.position = path_position(*src.path, 0.0);
+  src.gain_db = sf.number("gain_db", 0, -120, 40);
+  const std::string model = sf.text("distance_model", "inverse-clamped");
+  const auto m = audio::distance_model_from(model);
+  if (!m) sf.fail("distance_model", "unknown model '" + model + "' (none, inverse, inverse-clamped, linear, "
+                                    "linear-clamped, exponent, exponent-clamped)");
+  src.distance.model = *m;
+  src.distance.reference_distance = sf.number("reference_distance", 1, 1e-3, 1e5);
+  src.distance.rolloff = sf.number("rolloff", 1, 0, 100);
+  src.distance.max_distance = sf.number("max_distance", 1e5, 1e-3, 1e5);
+  src.reverb_send_db = sf.number("reverb_send_db", -120, -120, 20);
+  src.air_absorption = sf.number("air_absorption", 0, 0, 10);
+  sf.done();
+  return src;
+}
+
 }  // namespace
 
 Scene parse_scene(std::string_view text, std::string_view origin, const std::filesystem::path& base) {
@@ -281,88 +364,18 @@ Scene parse_scene(std::string_view text, std::string_view origin, const std::fil
     f.fail("reverb", "unknown reverb '" + s.reverb + "' (available: fdn, schroeder)");
   s.doppler_factor = f.number("doppler_factor", 1.0, 0.0, 10.0);
   s.speed_of_sound = f.number("speed_of_sound", 343.3, 1.0, 10000.0);
-  if (f.has("listener")) {
-    Fields l(f.at("listener"), origin, "listener");
-    if (l.has("head_size")) {
-      const json& h = l.at("head_size");
-      if (h.is_number()) {
-        const double r = h.get<double>();
-        if (!(r >= 0.05 && r <= 0.15)) l.fail("head_size", "radius out of range: " + h.dump() + " (0.05 to 0.15 m)");
-        s.listener.head_radius_m = r;
-      } else if (h == "small") {
-        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::small);
-      } else if (h == "medium") {
-        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::medium);
-      } else if (h == "large") {
-        s.listener.head_radius_m = hrtf::head_radius_m(hrtf::HeadSize::large);
-      } else if (h != "measured") {
-        l.fail("head_size", "expected measured, small, medium, large or a radius in metres, got " + h.dump());
-      }
-    }
-    s.listener.position = l.vec3("position", {0, 0, 0});
-    s.listener.yaw_deg = l.number("yaw_deg", 0, -360, 360);
-    s.listener.pitch_deg = l.number("pitch_deg", 0, -90, 90);
-    s.listener.roll_deg = l.number("roll_deg", 0, -360, 360);
-    l.done();
-  }
+  if (f.has("listener")) s.listener = parse_listener(f.at("listener"), origin);
   if (f.has("pose_track")) s.pose_track = resolve(base, f.text("pose_track", ""));
   s.quality = f.text("quality", "direct");
   if (!quality_order(s.quality)) f.fail("quality", "unknown quality '" + s.quality + "' (direct, ambisonic:1 to ambisonic:7)");
-  if (f.has("beds")) {
-    const json& beds = f.at("beds");
-    if (!beds.is_array()) f.fail("beds", "expected an array of beds");
-    for (std::size_t i = 0; i < beds.size(); ++i) {
-      Fields bf(beds[i], origin, "beds[" + std::to_string(i) + "]");
-      SceneBed b;
-      b.name = bf.text("name", "bed " + std::to_string(i + 1));
-      if (!bf.has("path")) bf.fail("path", "missing (an Ambisonic file)");
-      b.path = resolve(base, bf.text("path", ""));
-      b.convention = bf.text("convention", "ambix");
-      if (b.convention != "ambix" && b.convention != "n3d" && b.convention != "fuma")
-        bf.fail("convention", "unknown convention '" + b.convention + "' (ambix, n3d, fuma)");
-      b.gain_db = bf.number("gain_db", 0, -120, 40);
-      b.yaw_deg = bf.number("yaw_deg", 0, -360, 360);
-      b.pitch_deg = bf.number("pitch_deg", 0, -90, 90);
-      b.roll_deg = bf.number("roll_deg", 0, -360, 360);
-      if (bf.has("loop")) {
-        if (!bf.at("loop").is_boolean()) bf.fail("loop", "expected true or false");
-        b.loop = bf.at("loop").get<bool>();
-      }
-      bf.done();
-      s.beds.push_back(std::move(b));
-    }
-  }
+  if (f.has("beds")) s.beds = parse_beds(f, origin, base);
   if (!f.has("sources") && !s.beds.empty()) {
     f.done();
     return s;
   }
   if (!f.has("sources") || !f.at("sources").is_array()) f.fail("sources", "expected an array of sources");
   const json& arr = f.at("sources");
-  for (std::size_t i = 0; i < arr.size(); ++i) {
-    const std::string where = "sources[" + std::to_string(i) + "]";
-    Fields sf(arr[i], origin, where);
-    SceneSource src;
-    src.name = sf.text("name", "source " + std::to_string(i + 1));
-    if (!sf.has("signal")) sf.fail("signal", "missing");
-    src.signal = parse_signal(sf.at("signal"), origin, where + ".signal", base);
-    if (sf.has("path") && sf.has("position")) sf.fail("path", "a source has a position or a path, not both");
-    if (sf.has("path")) src.path = parse_path(sf.at("path"), origin, where + ".path");
-    src.position = sf.vec3("position", {0, 0, -1});
-    if (src.path) src.position = path_position(*src.path, 0.0);
-    src.gain_db = sf.number("gain_db", 0, -120, 40);
-    const std::string model = sf.text("distance_model", "inverse-clamped");
-    const auto m = audio::distance_model_from(model);
-    if (!m) sf.fail("distance_model", "unknown model '" + model + "' (none, inverse, inverse-clamped, linear, "
-                                      "linear-clamped, exponent, exponent-clamped)");
-    src.distance.model = *m;
-    src.distance.reference_distance = sf.number("reference_distance", 1, 1e-3, 1e5);
-    src.distance.rolloff = sf.number("rolloff", 1, 0, 100);
-    src.distance.max_distance = sf.number("max_distance", 1e5, 1e-3, 1e5);
-    src.reverb_send_db = sf.number("reverb_send_db", -120, -120, 20);
-    src.air_absorption = sf.number("air_absorption", 0, 0, 10);
-    sf.done();
-    s.sources.push_back(src);
-  }
+  for (std::size_t i = 0; i < arr.size(); ++i) s.sources.push_back(parse_source(arr[i], i, origin, base));
   f.done();
   return s;
 }

@@ -1,5 +1,7 @@
 #include "earshot/audio/hrtf_disk_cache.hpp"
 
+#include "earshot/audio/cache_files.hpp"
+
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <sys/stat.h>
@@ -179,13 +181,9 @@ class Reader {
   std::size_t at_ = 0;
 };
 
-std::array<std::uint8_t, 16> hash128(std::span<const std::uint8_t> bytes) {
-  XXH128_canonical_t c;
-  XXH128_canonicalFromHash(&c, XXH3_128bits(bytes.data(), bytes.size()));
-  std::array<std::uint8_t, 16> out{};
-  std::memcpy(out.data(), c.digest, 16);
-  return out;
-}
+using cache_files::errno_text;
+using cache_files::hash128;
+using cache_files::hex;
 
 struct Header {
   std::array<std::uint8_t, 8> magic = kMagic;
@@ -200,25 +198,6 @@ struct Header {
 };
 static_assert(sizeof(Header) == HrtfDiskCache::kHeaderBytes && std::is_trivially_copyable_v<Header>);
 
-std::string hex(std::span<const std::uint8_t> b) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string s;
-  for (const std::uint8_t x : b) s += {kDigits[x >> 4], kDigits[x & 15]};
-  return s;
-}
-
-/// A file this cache wrote: `<32 hex digits>.hrtf`, or its temporary
-/// `<32 hex digits>.hrtf.<pid>.<n>.tmp`. Nothing else in the directory is
-/// touched (it may be one shared with other programs).
-bool ours(const fs::path& p) {
-  const std::string name = p.filename().string();
-  if (name.size() < 37 || name.compare(32, 5, ".hrtf") != 0) return false;
-  if (!std::all_of(name.begin(), name.begin() + 32, [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); }))
-    return false;
-  return name.size() == 37 || (name.size() > 41 && name.compare(name.size() - 4, 4, ".tmp") == 0);
-}
-
-std::string errno_text(int e) { return std::error_code(e, std::generic_category()).message(); }
 
 }  // namespace
 
@@ -456,69 +435,26 @@ std::optional<HrtfDiskCache::Loaded> HrtfDiskCache::load(const Key& key) const {
 
 void HrtfDiskCache::store(const Key& key, const hrtf::HrtfSet& set, const HrtfSpectra& spectra) {
   if (!dir_) return;
-  static std::atomic<unsigned> serial{0};
   std::string problem;
-  fs::path tmp;
   try {
     const hrtf::HrtfSet::Stored s = set.stored();
     const HrtfSpectra::Stored sp = spectra.stored();
     const Writer w = payload_of(s, sp);
     const Header h = header_of(key, w);
-    std::error_code ec;
-    fs::create_directories(*dir_, ec);
-    const fs::path file = file_for(key);
-    tmp = file;
-    tmp += "." + std::to_string(::getpid()) + "." + std::to_string(serial++) + ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) {
-      problem = errno_text(errno);
-    } else {
-      const auto put = [&](const std::uint8_t* p, std::size_t n) {
-        while (n > 0 && problem.empty()) {
-          const ssize_t k = ::write(fd, p, n);
-          if (k < 0 && errno == EINTR) continue;
-          if (k <= 0) problem = errno_text(k < 0 ? errno : ENOSPC);
-          if (k > 0) p += k, n -= static_cast<std::size_t>(k);
-        }
-      };
-      put(reinterpret_cast<const std::uint8_t*>(&h), sizeof h);
-      for (const auto& piece : w.pieces()) put(piece.data(), piece.size());
-      if (::close(fd) != 0 && problem.empty()) problem = errno_text(errno);
-      if (problem.empty() && ::rename(tmp.c_str(), file.c_str()) != 0) problem = errno_text(errno);
-    }
+    std::vector<std::span<const std::uint8_t>> pieces{{reinterpret_cast<const std::uint8_t*>(&h), sizeof h}};
+    pieces.insert(pieces.end(), w.pieces().begin(), w.pieces().end());
+    problem = cache_files::write_whole(file_for(key), pieces);
   } catch (const std::exception& e) {
     problem = e.what();
   }
   if (problem.empty()) {
-    prune();
+    cache_files::prune(*dir_, ".hrtf", kMaxFiles);
     return;
-  }
-  if (!tmp.empty()) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
   }
   if (!write_failed_.exchange(true))
     note("cannot write the HRTF cache in " + dir_->string() + " (" + problem +
          "): HRTF sets are prepared in every process (EARSHOT_CACHE_DIR names another directory, =off turns "
          "the cache off)");
-}
-
-void HrtfDiskCache::prune() const {
-  std::error_code ec;
-  std::vector<std::pair<fs::file_time_type, fs::path>> files;
-  const auto stale_tmp = fs::file_time_type::clock::now() - std::chrono::hours(1);
-  for (fs::directory_iterator it(*dir_, ec), end; !ec && it != end; it.increment(ec)) {
-    const fs::path& p = it->path();
-    if (!ours(p)) continue;
-    std::error_code e2;
-    const auto t = fs::last_write_time(p, e2);
-    if (e2) continue;
-    if (p.extension() == ".hrtf") files.emplace_back(t, p);
-    if (p.extension() == ".tmp" && t < stale_tmp) fs::remove(p, e2);  // left by a process that died mid-write
-  }
-  if (files.size() <= kMaxFiles) return;
-  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (std::size_t i = kMaxFiles; i < files.size(); ++i) fs::remove(files[i].second, ec);
 }
 
 }  // namespace earshot::audio

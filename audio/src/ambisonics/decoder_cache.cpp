@@ -1,11 +1,10 @@
 #include "earshot/audio/ambisonics/decoder_cache.hpp"
 
+#include "earshot/audio/cache_files.hpp"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
-
-#define XXH_INLINE_ALL  // header only: no library to link into the plugin
-#include <xxhash.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -33,31 +32,9 @@ struct CacheHeader {
 static_assert(sizeof(CacheHeader) == DecoderCache::kHeaderBytes - 8 && std::is_trivially_copyable_v<CacheHeader>);
 // (8 bytes of the 64 reserved, zero.)
 
-std::array<std::uint8_t, 16> cache_hash128(std::span<const std::uint8_t> b) {
-  XXH128_canonical_t c;
-  XXH128_canonicalFromHash(&c, XXH3_128bits(b.data(), b.size()));
-  std::array<std::uint8_t, 16> out{};
-  std::memcpy(out.data(), c.digest, 16);
-  return out;
-}
-
-std::string cache_hex(std::span<const std::uint8_t> b) {
-  static constexpr char kDigits[] = "0123456789abcdef";
-  std::string s;
-  for (const std::uint8_t x : b) s += {kDigits[x >> 4], kDigits[x & 15]};
-  return s;
-}
-
-/// A file this cache wrote: `<32 hex>.ambi` or its `<32 hex>.ambi.<pid>.<n>.tmp`.
-bool cache_file_ours(const fs::path& p) {
-  const std::string name = p.filename().string();
-  if (name.size() < 37 || name.compare(32, 5, ".ambi") != 0) return false;
-  if (!std::all_of(name.begin(), name.begin() + 32, [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); }))
-    return false;
-  return name.size() == 37 || (name.size() > 41 && name.compare(name.size() - 4, 4, ".tmp") == 0);
-}
-
-std::string cache_errno_text(int e) { return std::error_code(e, std::generic_category()).message(); }
+using audio::cache_files::errno_text;
+using audio::cache_files::hash128;
+using audio::cache_files::hex;
 
 [[noreturn]] void cache_corrupt(const std::string& what) { throw std::runtime_error(what); }
 
@@ -67,8 +44,8 @@ std::array<std::uint8_t, 16> DecoderCache::Key::digest() const {
   char buf[160];
   std::snprintf(buf, sizeof buf, "decoder-cache v%u rate=%.17g order=%d radius=%.17g sofa=", unsigned(kFormatVersion), rate,
                 order, radius);
-  const std::string text = std::string(buf) + cache_hex(sofa_hash) + " design=" + design;
-  return cache_hash128(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
+  const std::string text = std::string(buf) + hex(sofa_hash) + " design=" + design;
+  return hash128(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
 
 DecoderCache::DecoderCache() : DecoderCache(audio::HrtfDiskCache::directory_from_environment()) {}
@@ -87,14 +64,14 @@ void DecoderCache::note(const std::string& line) const { notes_(line); }
 
 // ---- the file ----
 
-fs::path DecoderCache::file_for(const Key& key) const { return dir_.value() / (cache_hex(key.digest()) + ".ambi"); }
+fs::path DecoderCache::file_for(const Key& key) const { return dir_.value() / (hex(key.digest()) + ".ambi"); }
 
 std::vector<std::uint8_t> DecoderCache::serialize(const Key& key, const DecoderFilters& filters) {
   const std::vector<std::uint8_t> payload = filters.serialise();
   CacheHeader h;
   h.key = key.digest();
   h.payload_bytes = payload.size();
-  h.checksum = cache_hash128(payload);
+  h.checksum = hash128(payload);
   std::vector<std::uint8_t> out(kHeaderBytes + payload.size(), 0);
   std::memcpy(out.data(), &h, sizeof h);
   std::memcpy(out.data() + kHeaderBytes, payload.data(), payload.size());
@@ -112,7 +89,7 @@ DecoderFilters DecoderCache::parse(std::span<const std::uint8_t> bytes, const Ke
   const std::span<const std::uint8_t> payload = bytes.subspan(kHeaderBytes);
   if (h.payload_bytes != payload.size())
     cache_corrupt("payload of " + std::to_string(payload.size()) + " bytes, header says " + std::to_string(h.payload_bytes));
-  if (verify_checksum && cache_hash128(payload) != h.checksum) cache_corrupt("checksum does not match (corrupt)");
+  if (verify_checksum && hash128(payload) != h.checksum) cache_corrupt("checksum does not match (corrupt)");
   DecoderFilters f = DecoderFilters::deserialise(payload);  // checks every size and tap
   if (f.order != expected.order || !(f.sample_rate == expected.rate))
     cache_corrupt("holds order " + std::to_string(f.order) + " at " + std::to_string(f.sample_rate) + " Hz, not its key's");
@@ -125,14 +102,14 @@ std::optional<DecoderFilters> DecoderCache::load(const Key& key) const {
   const int fd = ::open(file.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd < 0) {
     if (errno != ENOENT && errno != ENOTDIR)
-      note("cannot read the decoder cache file " + file.string() + " (" + cache_errno_text(errno) + "): designing it again");
+      note("cannot read the decoder cache file " + file.string() + " (" + errno_text(errno) + "): designing it again");
     return std::nullopt;
   }
   std::string problem;
   std::vector<std::uint8_t> bytes;
   struct stat st {};
   if (::fstat(fd, &st) != 0) {
-    problem = cache_errno_text(errno);
+    problem = errno_text(errno);
   } else if (!S_ISREG(st.st_mode)) {
     problem = "not a regular file";
   } else if (static_cast<std::uintmax_t>(st.st_size) > kMaxFileBytes) {
@@ -165,70 +142,22 @@ std::optional<DecoderFilters> DecoderCache::load(const Key& key) const {
 
 void DecoderCache::store(const Key& key, const DecoderFilters& filters) {
   if (!dir_) return;
-  static std::atomic<unsigned> serial{0};
   std::string problem;
-  fs::path tmp;
   try {
     const std::vector<std::uint8_t> bytes = serialize(key, filters);
-    std::error_code ec;
-    fs::create_directories(*dir_, ec);
-    const fs::path file = file_for(key);
-    tmp = file;
-    // Appended piece by piece: g++ 12 warns of an overlapping copy in the
-    // inlined '"." + std::to_string(...)' (GCC bug 105651).
-    tmp += ".";
-    tmp += std::to_string(::getpid());
-    tmp += ".";
-    tmp += std::to_string(serial++);
-    tmp += ".tmp";
-    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) {
-      problem = cache_errno_text(errno);
-    } else {
-      const std::uint8_t* p = bytes.data();
-      std::size_t n = bytes.size();
-      while (n > 0 && problem.empty()) {
-        const ssize_t k = ::write(fd, p, n);
-        if (k < 0 && errno == EINTR) continue;
-        if (k <= 0) problem = cache_errno_text(k < 0 ? errno : ENOSPC);
-        if (k > 0) p += k, n -= static_cast<std::size_t>(k);
-      }
-      if (::close(fd) != 0 && problem.empty()) problem = cache_errno_text(errno);
-      if (problem.empty() && ::rename(tmp.c_str(), file.c_str()) != 0) problem = cache_errno_text(errno);
-    }
+    const std::span<const std::uint8_t> pieces[] = {bytes};
+    problem = audio::cache_files::write_whole(file_for(key), pieces);
   } catch (const std::exception& e) {
     problem = e.what();
   }
   if (problem.empty()) {
-    prune();
+    audio::cache_files::prune(*dir_, ".ambi", kMaxFiles);
     return;
-  }
-  if (!tmp.empty()) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
   }
   if (!write_failed_.exchange(true))
     note("cannot write the decoder cache in " + dir_->string() + " (" + problem +
          "): decoders are designed in every process (EARSHOT_CACHE_DIR names another directory, =off turns the cache "
          "off)");
-}
-
-void DecoderCache::prune() const {
-  std::error_code ec;
-  std::vector<std::pair<fs::file_time_type, fs::path>> files;
-  const auto stale_tmp = fs::file_time_type::clock::now() - std::chrono::hours(1);
-  for (fs::directory_iterator it(*dir_, ec), end; !ec && it != end; it.increment(ec)) {
-    const fs::path& p = it->path();
-    if (!cache_file_ours(p)) continue;
-    std::error_code e2;
-    const auto t = fs::last_write_time(p, e2);
-    if (e2) continue;
-    if (p.extension() == ".ambi") files.emplace_back(t, p);
-    if (p.extension() == ".tmp" && t < stale_tmp) fs::remove(p, e2);  // left by a process that died mid-write
-  }
-  if (files.size() <= kMaxFiles) return;
-  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  for (std::size_t i = kMaxFiles; i < files.size(); ++i) fs::remove(files[i].second, ec);
 }
 
 // ---- memory ----

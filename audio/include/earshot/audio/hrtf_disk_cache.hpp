@@ -123,7 +123,6 @@ class HrtfDiskCache {
 
  private:
   void note(const std::string& line) const;
-  void prune() const;
 
   std::optional<std::filesystem::path> dir_;
   Notes notes_;

@@ -132,7 +132,6 @@ class DecoderCache {
                                               bool& from_disk);
   void keep(const std::shared_ptr<const DecoderFilters>& f);
   void note(const std::string& line) const;
-  void prune() const;
 
   mutable std::mutex mutex_;
   std::map<MemoryKey, Entry> entries_;

@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
     return 1000.0;
   };
   const Percentiles s = percentiles(to_slot_us), r = percentiles(to_reader_us);
-  std::printf("frames %ld at %.0f Hz, lm + one-euro, thesis beacon; %llu reader loads\n\n", frames, rate,
+  std::printf("frames %ld at %.0f Hz, lm + eskf (the live default), thesis beacon; %llu reader loads\n\n", frames, rate,
               static_cast<unsigned long long>(loads));
   std::printf("| measure | p50 | p99 | max |\n|---|---|---|---|\n");
   std::printf("| frame arrival -> pose published in the slot | %.1f us | %.1f us | %.1f us |\n", s.p50, s.p99, s.max);

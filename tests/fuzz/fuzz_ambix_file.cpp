@@ -8,7 +8,7 @@
 // Seeds: at start-up small WAV files (first order, third order, FuMa, a
 // 5-channel file that must be refused) are written into the corpus
 // directory given on the command line (binary files stay out of the
-// repository; the committed corpus holds one text stub).
+// repository; the committed corpus holds one small text seed).
 #include <sndfile.h>
 #include <sys/mman.h>
 #include <unistd.h>

@@ -45,6 +45,7 @@
 #include "earshot/head/head_reader.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "handoff.hpp"
+#include "plugin_glue.hpp"
 #include "shared_tracker.hpp"
 
 namespace earshot::lv2::ambi {
@@ -102,7 +103,7 @@ std::shared_ptr<const ambisonics::DecoderFilters> default_filters(int order, dou
 
 class Plugin {
  public:
-  Plugin(int order, double rate, const LV2_Feature* const* features)
+  Plugin(double rate, const LV2_Feature* const* features, int order)
       : ports_(port_count(order), nullptr), decoder_(default_filters(order, rate), rate), rate_(rate) {
     const LV2_URID_Map* map = nullptr;
     for (int i = 0; features && features[i]; ++i) {
@@ -196,14 +197,14 @@ class Plugin {
     return LV2_WORKER_SUCCESS;
   }
 
-  LV2_State_Status save(LV2_State_Store_Function store, LV2_State_Handle handle) {
+  LV2_State_Status save(LV2_State_Store_Function store, LV2_State_Handle handle, const LV2_Feature* const*) {
     if (!map_) return LV2_STATE_ERR_NO_FEATURE;
     store(handle, uris_.tracker, tracker_spec_.c_str(), tracker_spec_.size() + 1, uris_.atom_string,
           LV2_STATE_IS_POD | LV2_STATE_IS_PORTABLE);
     return LV2_STATE_SUCCESS;
   }
 
-  LV2_State_Status restore(LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle) {
+  LV2_State_Status restore(LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle, const LV2_Feature* const*) {
     if (!map_) return LV2_STATE_ERR_NO_FEATURE;
     std::size_t size = 0;
     std::uint32_t type = 0, flags = 0;
@@ -342,55 +343,15 @@ class Plugin {
   bool recenter_was_ = false, announce_ = false;
 };
 
-Plugin* self(LV2_Handle h) { return static_cast<Plugin*>(h); }
+using Glue = PluginGlue<Plugin>;
 
 template <int Order>
 LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char*, const LV2_Feature* const* features) {
-  try {
-    return std::make_unique<Plugin>(Order, rate, features).release();  // the host's until cleanup
-  } catch (const std::exception& e) {
-    for (int i = 0; features && features[i]; ++i)
-      if (features[i]->URI && std::string_view(features[i]->URI) == LV2_LOG__log) {
-        LV2_Log_Logger logger{};
-        lv2_log_logger_init(&logger, nullptr, static_cast<LV2_Log_Log*>(features[i]->data));
-        lv2_log_error(&logger, "earshot.lv2 (Ambisonic order %d): %s\n", Order, e.what());
-      }
-    return nullptr;
-  }
+  static const std::string name = "earshot.lv2 (Ambisonic order " + std::to_string(Order) + ")";
+  return Glue::make(name.c_str(), rate, features, Order);
 }
 
-void connect_port(LV2_Handle h, std::uint32_t port, void* data) { self(h)->connect(port, data); }
-void activate(LV2_Handle h) { self(h)->activate(); }
-void run(LV2_Handle h, std::uint32_t frames) { self(h)->run(frames); }
-void deactivate(LV2_Handle) {}
-void cleanup(LV2_Handle h) { std::unique_ptr<Plugin> owned(self(h)); }
-
-LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond, LV2_Worker_Respond_Handle handle,
-                       std::uint32_t size, const void* data) {
-  return self(h)->work(respond, handle, size, data);
-}
-LV2_Worker_Status work_response(LV2_Handle h, std::uint32_t size, const void* data) {
-  return self(h)->work_response(size, data);
-}
-LV2_State_Status save(LV2_Handle h, LV2_State_Store_Function store, LV2_State_Handle handle, std::uint32_t,
-                      const LV2_Feature* const*) {
-  return self(h)->save(store, handle);
-}
-LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle, std::uint32_t,
-                         const LV2_Feature* const*) {
-  return self(h)->restore(retrieve, handle);
-}
-
-const void* extension_data(const char* uri) {
-  static const LV2_Worker_Interface worker{work, work_response, nullptr};
-  static const LV2_State_Interface state{save, restore};
-  if (std::string_view(uri) == LV2_WORKER__interface) return &worker;
-  if (std::string_view(uri) == LV2_STATE__interface) return &state;
-  return nullptr;
-}
-
-#define EARSHOT_AMBI_DESCRIPTOR(n) \
-  LV2_Descriptor { EARSHOT_LV2_AMBI_URI_PREFIX #n, instantiate<n>, connect_port, activate, run, deactivate, cleanup, extension_data }
+#define EARSHOT_AMBI_DESCRIPTOR(n) Glue::descriptor(EARSHOT_LV2_AMBI_URI_PREFIX #n, instantiate<n>)
 const std::array<LV2_Descriptor, kOrders> kDescriptors{EARSHOT_AMBI_DESCRIPTOR(1), EARSHOT_AMBI_DESCRIPTOR(2),
                                                        EARSHOT_AMBI_DESCRIPTOR(3), EARSHOT_AMBI_DESCRIPTOR(4),
                                                        EARSHOT_AMBI_DESCRIPTOR(5)};

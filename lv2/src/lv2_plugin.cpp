@@ -46,6 +46,7 @@
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "features.hpp"
 #include "handoff.hpp"
+#include "plugin_glue.hpp"
 #include "shared_tracker.hpp"
 #include "uris.hpp"
 
@@ -544,53 +545,13 @@ class Plugin {
   }
 };
 
-Plugin* self(LV2_Handle h) { return static_cast<Plugin*>(h); }
+using Glue = PluginGlue<Plugin>;
 
 LV2_Handle instantiate(const LV2_Descriptor*, double rate, const char*, const LV2_Feature* const* features) {
-  try {
-    return std::make_unique<Plugin>(rate, features).release();  // owned by the host until cleanup
-  } catch (const std::exception& e) {
-    if (auto* log = static_cast<LV2_Log_Log*>(const_cast<void*>(feature_data(features, LV2_LOG__log)))) {
-      LV2_Log_Logger logger{};
-      lv2_log_logger_init(&logger, nullptr, log);
-      lv2_log_error(&logger, "earshot.lv2: %s\n", e.what());
-    }
-    return nullptr;
-  }
+  return Glue::make("earshot.lv2", rate, features);
 }
 
-void connect_port(LV2_Handle h, std::uint32_t port, void* data) { self(h)->connect(port, data); }
-void activate(LV2_Handle h) { self(h)->activate(); }
-void run(LV2_Handle h, std::uint32_t frames) { self(h)->run(frames); }
-void deactivate(LV2_Handle) {}
-void cleanup(LV2_Handle h) { std::unique_ptr<Plugin> owned(self(h)); }
-
-LV2_Worker_Status work(LV2_Handle h, LV2_Worker_Respond_Function respond, LV2_Worker_Respond_Handle handle,
-                       std::uint32_t size, const void* data) {
-  return self(h)->work(respond, handle, size, data);
-}
-LV2_Worker_Status work_response(LV2_Handle h, std::uint32_t size, const void* data) {
-  return self(h)->work_response(size, data);
-}
-LV2_State_Status save(LV2_Handle h, LV2_State_Store_Function store, LV2_State_Handle handle, std::uint32_t,
-                      const LV2_Feature* const* features) {
-  return self(h)->save(store, handle, features);
-}
-LV2_State_Status restore(LV2_Handle h, LV2_State_Retrieve_Function retrieve, LV2_State_Handle handle, std::uint32_t,
-                         const LV2_Feature* const* features) {
-  return self(h)->restore(retrieve, handle, features);
-}
-
-const void* extension_data(const char* uri) {
-  static const LV2_Worker_Interface worker{work, work_response, nullptr};
-  static const LV2_State_Interface state{save, restore};
-  if (std::string_view(uri) == LV2_WORKER__interface) return &worker;
-  if (std::string_view(uri) == LV2_STATE__interface) return &state;
-  return nullptr;
-}
-
-const LV2_Descriptor kDescriptor{EARSHOT_LV2_URI, instantiate, connect_port, activate, run, deactivate, cleanup,
-                                 extension_data};
+const LV2_Descriptor kDescriptor = Glue::descriptor(EARSHOT_LV2_URI, instantiate);
 
 }  // namespace
 }  // namespace earshot::lv2

@@ -38,7 +38,7 @@ enum AmbiPort : std::uint32_t { kLeft = 0, kRight, kCtl, kNote, kTrack, kSource,
 
 class AmbiHost {
  public:
-  explicit AmbiHost(int order) : order_(order), channels_(static_cast<std::uint32_t>((order + 1) * (order + 1))) {
+  explicit AmbiHost(int order) : channels_(static_cast<std::uint32_t>((order + 1) * (order + 1))) {
     dl_ = dlopen((fs::path(EARSHOT_LV2_BUNDLE) / "earshot.so").c_str(), RTLD_NOW | RTLD_LOCAL);
     if (!dl_) throw std::runtime_error(dlerror());
     auto fn = reinterpret_cast<LV2_Descriptor_Function>(dlsym(dl_, "lv2_descriptor"));
@@ -160,7 +160,6 @@ class AmbiHost {
   }
 
  private:
-  int order_;
   std::uint32_t channels_;
   void* dl_ = nullptr;
   const LV2_Descriptor* desc_ = nullptr;

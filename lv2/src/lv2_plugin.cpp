@@ -46,6 +46,7 @@
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "features.hpp"
 #include "handoff.hpp"
+#include "patch_reader.hpp"
 #include "plugin_glue.hpp"
 #include "shared_tracker.hpp"
 #include "uris.hpp"
@@ -440,49 +441,23 @@ class Plugin {
 
   /// The control port's patch messages. The host's bytes are checked before
   /// they are read: every event, property and value must lie inside the
-  /// sequence the host sized (tests/fuzz/fuzz_lv2_control.cpp).
+  /// sequence the host sized (patch_reader.hpp).
   void read_control_events() {
-    const auto* seq = static_cast<const LV2_Atom_Sequence*>(ports_[kControl]);
-    if (!seq || !map_ || seq->atom.size < sizeof(LV2_Atom_Sequence_Body)) return;
-    const auto* end = reinterpret_cast<const std::uint8_t*>(&seq->body) + seq->atom.size;
-    const auto inside = [end](const void* p, std::size_t n) {
-      const auto* b = static_cast<const std::uint8_t*>(p);
-      return b <= end && n <= static_cast<std::size_t>(end - b);
-    };
-    LV2_ATOM_SEQUENCE_FOREACH(seq, ev) {
-      if (!inside(ev, sizeof(LV2_Atom_Event)) || !inside(&ev->body, sizeof(LV2_Atom) + ev->body.size)) return;
-      if (ev->body.type != uris_.atom_object && ev->body.type != uris_.atom_resource) continue;
-      if (ev->body.size < sizeof(LV2_Atom_Object_Body)) continue;
-      const auto* obj = reinterpret_cast<const LV2_Atom_Object*>(&ev->body);
-      if (obj->body.otype == uris_.patch_get) {
-        announce_sofa_ = true;
-        announce_tracker_ = true;
-        announce_send_ = true;
-        continue;
-      }
-      if (obj->body.otype != uris_.patch_set) continue;
-      const LV2_Atom* property = nullptr;
-      const LV2_Atom* value = nullptr;
-      LV2_ATOM_OBJECT_FOREACH(obj, prop) {
-        if (!inside(prop, sizeof(LV2_Atom_Property_Body)) || !inside(&prop->value, sizeof(LV2_Atom) + prop->value.size))
-          break;
-        if (prop->key == uris_.patch_property) property = &prop->value;
-        if (prop->key == uris_.patch_value) value = &prop->value;
-      }
-      if (!property || property->type != uris_.atom_urid || property->size < sizeof(LV2_URID) || !value) continue;
-      const LV2_URID key = reinterpret_cast<const LV2_Atom_URID*>(property)->body;
-      const auto* text = static_cast<const char*>(LV2_ATOM_BODY_CONST(value));
-      const std::string_view s(text, strnlen(text, value->size));
-      if (key == uris_.sofa && value->type == uris_.atom_path) {
-        (void)schedule(Job::load_hrtf, s);
-      } else if (key == uris_.tracker && value->type == uris_.atom_string) {
-        if (s.size() < kMaxSpec) tracker_spec_.assign(s);  // capacity reserved: no allocation
-        announce_tracker_ = true;
-      } else if (key == uris_.send && value->type == uris_.atom_string) {
-        if (s.size() < kMaxSpec && s.find('\n') == std::string_view::npos) send_spec_.assign(s);
-        announce_send_ = true;
-      }
-    }
+    if (!map_) return;
+    read_patch_messages(
+        static_cast<const LV2_Atom_Sequence*>(ports_[kControl]), uris_,
+        [this] { announce_sofa_ = announce_tracker_ = announce_send_ = true; },
+        [this](LV2_URID key, const LV2_Atom* value, std::string_view s) {
+          if (key == uris_.sofa && value->type == uris_.atom_path) {
+            (void)schedule(Job::load_hrtf, s);
+          } else if (key == uris_.tracker && value->type == uris_.atom_string) {
+            if (s.size() < kMaxSpec) tracker_spec_.assign(s);  // capacity reserved: no allocation
+            announce_tracker_ = true;
+          } else if (key == uris_.send && value->type == uris_.atom_string) {
+            if (s.size() < kMaxSpec && s.find('\n') == std::string_view::npos) send_spec_.assign(s);
+            announce_send_ = true;
+          }
+        });
   }
 
   /// patch:Set messages on the notify port for what changed (hosts' UIs).

@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "earshot/audio/ambisonics/ambix_file.hpp"
+#include "corpus_dir.hpp"
 
 namespace {
 
@@ -47,18 +48,12 @@ void write_seed(const std::filesystem::path& p, std::uint8_t convention, int cha
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  for (int i = *argc - 1; i > 0; --i) {
-    const std::filesystem::path p = (*argv)[i];
-    if (p.string().starts_with("-")) continue;
-    std::error_code ec;
-    if (std::filesystem::is_directory(p, ec)) {
-      write_seed(p / "o1_float", 0, 4, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
-      write_seed(p / "o3_pcm16", 0, 16, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
-      write_seed(p / "fuma_o2", 2, 9, SF_FORMAT_WAV | SF_FORMAT_PCM_24);
-      write_seed(p / "n3d_w64", 1, 4, SF_FORMAT_W64 | SF_FORMAT_FLOAT);
-      write_seed(p / "five", 0, 5, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
-    }
-    break;
+  if (const auto dir = earshot::fuzz::corpus_dir(*argc, *argv)) {
+    write_seed(*dir / "o1_float", 0, 4, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
+    write_seed(*dir / "o3_pcm16", 0, 16, SF_FORMAT_WAV | SF_FORMAT_PCM_16);
+    write_seed(*dir / "fuma_o2", 2, 9, SF_FORMAT_WAV | SF_FORMAT_PCM_24);
+    write_seed(*dir / "n3d_w64", 1, 4, SF_FORMAT_W64 | SF_FORMAT_FLOAT);
+    write_seed(*dir / "five", 0, 5, SF_FORMAT_WAV | SF_FORMAT_FLOAT);
   }
   return 0;
 }

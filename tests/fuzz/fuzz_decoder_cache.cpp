@@ -17,6 +17,7 @@
 
 #include "earshot/audio/ambisonics/binaural_decoder.hpp"
 #include "earshot/audio/ambisonics/decoder_cache.hpp"
+#include "corpus_dir.hpp"
 
 using earshot::ambisonics::DecoderCache;
 using earshot::ambisonics::DecoderFilters;
@@ -56,17 +57,7 @@ void use(const DecoderFilters& f) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  for (int i = *argc - 1; i > 0; --i) {
-    const std::filesystem::path p = (*argv)[i];
-    if (p.string().starts_with("-")) continue;
-    std::error_code ec;
-    if (std::filesystem::is_directory(p, ec)) {
-      const auto bytes = valid_file();
-      std::ofstream(p / "valid.ambi", std::ios::binary)
-          .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    }
-    break;
-  }
+  if (const auto dir = earshot::fuzz::corpus_dir(*argc, *argv)) earshot::fuzz::write_seed(*dir, "valid.ambi", valid_file());
   return 0;
 }
 

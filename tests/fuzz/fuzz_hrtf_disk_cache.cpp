@@ -19,6 +19,7 @@
 
 #include "earshot/audio/hrtf_disk_cache.hpp"
 #include "earshot/audio/renderer.hpp"
+#include "corpus_dir.hpp"
 
 using earshot::audio::HrtfDiskCache;
 using earshot::audio::HrtfSpectra;
@@ -104,18 +105,7 @@ void use(const HrtfDiskCache::Loaded& l) {
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int* argc, char*** argv) {
-  // The corpus directory is the last argument that is not a flag.
-  for (int i = *argc - 1; i > 0; --i) {
-    const std::filesystem::path p = (*argv)[i];
-    if (p.string().starts_with("-")) continue;
-    std::error_code ec;
-    if (std::filesystem::is_directory(p, ec)) {
-      const auto bytes = valid_file();
-      std::ofstream(p / "valid.hrtf", std::ios::binary)
-          .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    }
-    break;
-  }
+  if (const auto dir = earshot::fuzz::corpus_dir(*argc, *argv)) earshot::fuzz::write_seed(*dir, "valid.hrtf", valid_file());
   return 0;
 }
 

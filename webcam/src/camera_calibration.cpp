@@ -94,6 +94,8 @@ std::vector<double> matrix(const YAML::Node& root, std::string_view origin, cons
   return v;
 }
 
+constexpr double kMaxFocalPx = 1e6, kMaxCentrePx = 1e5;
+
 CameraCalibration from_yaml(const YAML::Node& root, std::string_view origin) {
   if (!root.IsMap()) throw InputError::at(origin, 0, "", "not a calibration file (expected a YAML map with camera_matrix)");
   CameraCalibration c;
@@ -108,6 +110,13 @@ CameraCalibration from_yaml(const YAML::Node& root, std::string_view origin) {
     throw InputError::at(origin, 0, "camera_matrix",
                          "not a camera matrix [fx 0 cx; 0 fy cy; 0 0 1] with positive focal lengths");
   if (std::abs(k[1]) > 1e-6 * c.fx) throw InputError::at(origin, 0, "camera_matrix", "skewed pixels are not supported");
+  // Images are at most 16384 px wide: a focal length or principal point
+  // beyond these is no camera, and pixels near 1e18 lose every digit a
+  // round trip through the lens model needs (found by fuzz_camera_calibration).
+  if (c.fx > kMaxFocalPx || c.fy > kMaxFocalPx)
+    throw InputError::at(origin, 0, "camera_matrix", "focal length beyond 1e6 px: not a camera matrix");
+  if (std::abs(c.cx) > kMaxCentrePx || std::abs(c.cy) > kMaxCentrePx)
+    throw InputError::at(origin, 0, "camera_matrix", "principal point beyond 1e5 px of the image: not a camera matrix");
   if (root["distortion_coefficients"]) {
     const auto d = matrix(root, origin, "distortion_coefficients", rows, cols);
     if (rows != 1 && cols != 1) throw InputError::at(origin, 0, "distortion_coefficients", "not a row or a column");

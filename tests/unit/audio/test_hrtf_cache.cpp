@@ -12,6 +12,7 @@
 #include "earshot/audio/hrtf_cache.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "earshot/errors.hpp"
+#include "../scratch_path.hpp"
 
 using earshot::audio::HrtfCache;
 using earshot::audio::PreparedHrtf;
@@ -22,7 +23,7 @@ namespace {
 
 /// A private copy of the default set in a fresh directory.
 fs::path copy_of_default(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("earshot_hrtf_cache_" + name);
+  const fs::path dir = earshot::test::scratch_path("hrtf_cache_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   const fs::path p = dir / "set.sofa";
@@ -72,7 +73,7 @@ TEST(HrtfCache, UnusedSetsBeyondTheKeptOnesAreFreed) {
 
 TEST(HrtfCache, ABadFileIsAnErrorEveryTimeAndNotRemembered) {
   HrtfCache cache;
-  const fs::path dir = fs::temp_directory_path() / "earshot_hrtf_cache_bad";
+  const fs::path dir = earshot::test::scratch_path("hrtf_cache_bad");
   fs::create_directories(dir);
   const fs::path bad = dir / "not_sofa.sofa";
   std::ofstream(bad) << "this is not a SOFA file\n";

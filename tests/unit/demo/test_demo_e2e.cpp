@@ -18,6 +18,7 @@
 #include "binaural_cues.hpp"
 #include "demo_run.hpp"
 #include "dummy_jack.hpp"
+#include "../scratch_path.hpp"
 
 namespace {
 
@@ -33,7 +34,7 @@ TEST(DemoEndToEnd, PlaysThroughJackDummyWithoutXrunAndCuesFollowTheHead) {
   if (run("command -v jackd").status != 0) GTEST_SKIP() << "jackd missing (apt-get install jackd2)";
   DummyJack jack;
   ASSERT_TRUE(jack.running()) << "jackd did not start; see " << jack.log();
-  const std::string wav = "/tmp/earshot-e2e.wav", poses = "/tmp/earshot-e2e.csv";
+  const std::string wav = earshot::test::scratch_path("e2e.wav").string(), poses = earshot::test::scratch_path("e2e.csv").string();
   const auto r = run(std::string(EARSHOT_EXE) + " demo --scene " + EARSHOT_TEST_SCENE +
                      " --device system --buffer 128 --tracker sim --duration 30 --capture " + wav +
                      " --capture-poses " + poses + " </dev/null");
@@ -105,7 +106,7 @@ TEST(DemoEndToEnd, WithNoRemoteTheAudioPlaysOnWithTheHeadStraight) {
   if (run("command -v jackd").status != 0) GTEST_SKIP() << "jackd missing (apt-get install jackd2)";
   DummyJack jack;
   ASSERT_TRUE(jack.running()) << "jackd did not start; see " << jack.log();
-  const std::string wav = "/tmp/earshot-e2e-noremote.wav";
+  const std::string wav = earshot::test::scratch_path("e2e-noremote.wav").string();
   const auto r = run(std::string(EARSHOT_EXE) + " demo --scene " + EARSHOT_TEST_SCENE +
                      " --device system --tracker wiimote --duration 3 --capture " + wav + " </dev/null");
   std::printf("%s\n", r.output.c_str());
@@ -129,7 +130,7 @@ TEST(DemoEndToEnd, ATrackerThatStopsMidRunIsReportedAndTheAudioPlaysOn) {
   ASSERT_EQ(run(std::string(EARSHOT_EXE) + " track simulate --frames 100 --out " + dots).status, 0);
   DummyJack jack;
   ASSERT_TRUE(jack.running()) << "jackd did not start; see " << jack.log();
-  const std::string wav = "/tmp/earshot-e2e-stop.wav";
+  const std::string wav = earshot::test::scratch_path("e2e-stop.wav").string();
   const auto r = run(std::string(EARSHOT_EXE) + " demo --scene " + EARSHOT_TEST_SCENE +
                      " --device system --tracker replay:" + dots + " --duration 4 --capture " + wav + " </dev/null");
   std::printf("%s\n", r.output.c_str());

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "demo_run.hpp"
+#include "../scratch_path.hpp"
 
 namespace {
 
@@ -13,7 +14,7 @@ using earshot::testing::run;
 TEST(DemoQuick, WithoutASoundCardItSaysSoAndRendersAWav) {
   if (std::filesystem::exists("/proc/asound/pcm") && std::filesystem::file_size("/proc/asound/pcm") > 0)
     GTEST_SKIP() << "this machine has a sound card";
-  const std::filesystem::path out = std::filesystem::temp_directory_path() / "earshot-demo-quick.wav";
+  const std::filesystem::path out = earshot::test::scratch_path("demo-quick.wav");
   std::filesystem::remove(out);
   const auto r = run(std::string(EARSHOT_EXE) + " demo --duration 1 --out " + out.string());
   EXPECT_EQ(r.status, 0) << r.output;
@@ -24,7 +25,7 @@ TEST(DemoQuick, WithoutASoundCardItSaysSoAndRendersAWav) {
 TEST(DemoQuick, ADeviceAskedForWhereThereIsNoneIsNamedAndItRendersAWav) {
   setenv("JACK_DEFAULT_SERVER", "earshot-no-such-server", 1);
   setenv("JACK_NO_START_SERVER", "1", 1);
-  const std::filesystem::path out = std::filesystem::temp_directory_path() / "earshot-demo-nodev.wav";
+  const std::filesystem::path out = earshot::test::scratch_path("demo-nodev.wav");
   std::filesystem::remove(out);
   const auto r = run(std::string(EARSHOT_EXE) + " demo --device no-such-device --duration 1 --out " + out.string());
   if (r.output.find("Output devices") != std::string::npos || r.output.find("earshot demo: playing") != std::string::npos)

@@ -17,6 +17,7 @@
 #include "earshot/host/wav_writer.hpp"
 #include "earshot/host/world_handle.hpp"
 #include "earshot/scenes/scene.hpp"
+#include "../scratch_path.hpp"
 
 namespace {
 
@@ -169,7 +170,7 @@ TEST(HostTracker, ARefusedTrackerIsAnAlarmAndNoneIsQuiet) {
 }
 
 TEST(HostWavWriter, WritesWhatItIsGivenAndNamesAFileItCannotWrite) {
-  const fs::path out = fs::temp_directory_path() / "earshot-host-writer.wav";
+  const fs::path out = earshot::test::scratch_path("host-writer.wav");
   const std::vector<float> left{0.5f, -0.25f, 0.0f}, right{0.125f, 1.0f, -1.0f};
   {
     host::WavWriter w(out, 44100, host::WavFormat::float32);

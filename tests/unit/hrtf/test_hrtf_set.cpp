@@ -11,6 +11,7 @@
 
 #include "earshot/errors.hpp"
 #include "earshot/hrtf/hrtf_set.hpp"
+#include "../scratch_path.hpp"
 
 using namespace earshot::hrtf;
 namespace fs = std::filesystem;
@@ -205,7 +206,7 @@ TEST(HrtfSet, ParametricItd) {
 }
 
 TEST(HrtfSet, BadFilesGetOneClearError) {
-  const fs::path dir = fs::temp_directory_path() / "earshot_hrtf_test";
+  const fs::path dir = earshot::test::scratch_path("hrtf_test");
   fs::create_directories(dir);
   EXPECT_EQ(load_error(dir / "missing.sofa"), (dir / "missing.sofa").string() + ": file not found");
   std::ofstream(dir / "empty.sofa").close();
@@ -242,7 +243,7 @@ TEST(HrtfSet, CorruptedCopiesOfTheDefaultFileGetAnErrorOrLoadCleanly) {
   std::ifstream in(HrtfSet::kDefaultPath, std::ios::binary);
   const std::string good((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   ASSERT_GT(good.size(), 10000u);
-  const fs::path file = fs::temp_directory_path() / "earshot_hrtf_test" / "corrupt.sofa";
+  const fs::path file = earshot::test::scratch_path("hrtf_test") / "corrupt.sofa";
   fs::create_directories(file.parent_path());
   std::mt19937 rng(20261123);
   int errors = 0, loaded = 0;

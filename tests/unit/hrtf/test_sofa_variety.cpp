@@ -9,6 +9,7 @@
 // (arrival included) with an error energy at least 40 dB below the
 // response's, and what lookup() (the renderer's path) gives there must have
 // the interaural time difference of the file's own responses within 10 us.
+#include "../scratch_path.hpp"
 #include <gtest/gtest.h>
 #include <mysofa.h>
 
@@ -96,7 +97,7 @@ class SofaVariety : public ::testing::TestWithParam<Case> {};
 
 TEST_P(SofaVariety, EveryMeasuredDirectionGivesBackItsResponse) {
   const Case& c = GetParam();
-  const fs::path dir = fs::temp_directory_path() / ("earshot_sofa_variety_" + std::string(c.name));
+  const fs::path dir = earshot::test::scratch_path("sofa_variety_" + std::string(c.name));
   fs::create_directories(dir);
   const fs::path file = dir / "set.sofa", expected = dir / "expected.sofa";
   // Debian's interpreter, which has python3-netcdf4 (not whatever python3 is first on PATH).
@@ -201,7 +202,7 @@ namespace {
 
 /// Writes a set with make_sofa.py `args` into a fresh file named `name`.
 fs::path make_set(const std::string& name, const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / "earshot_sofa_limits";
+  const fs::path dir = earshot::test::scratch_path("sofa_limits");
   fs::create_directories(dir);
   const fs::path file = dir / (name + ".sofa");
   const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out " + file.string() + " " + args;

@@ -34,6 +34,7 @@
 
 #include "../audio/alloc_counter.hpp"
 #include "binaural_cues.hpp"
+#include "../scratch_path.hpp"
 
 namespace fs = std::filesystem;
 
@@ -272,7 +273,7 @@ fs::path plugin_library() { return fs::path(EARSHOT_LV2_BUNDLE) / "earshot.so"; 
 
 /// A small SOFA set written by the test fixture tool.
 fs::path make_sofa(const std::string& name) {
-  const fs::path out = fs::temp_directory_path() / ("earshot_lv2_" + name + ".sofa");
+  const fs::path out = earshot::test::scratch_path("lv2_" + name + ".sofa");
   const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out '" + out.string() +
                           "' --length 64 --grid fibonacci:300";
   if (std::system(cmd.c_str()) != 0) throw std::runtime_error("make_sofa.py failed: " + cmd);

@@ -18,6 +18,7 @@
 #include "earshot/audio/real_fft.hpp"
 #include "earshot/audio/renderer.hpp"
 #include "earshot/hrtf/rigid_sphere.hpp"
+#include "../scratch_path.hpp"
 
 using namespace earshot::audio;
 namespace fs = std::filesystem;
@@ -187,7 +188,7 @@ namespace {
 /// have larger ILDs (make_sofa.py's model), written once per process.
 fs::path three_shells() {
   static const fs::path file = [] {
-    const fs::path dir = fs::temp_directory_path() / "earshot_near_field";
+    const fs::path dir = earshot::test::scratch_path("near_field");
     fs::create_directories(dir);
     const fs::path f = dir / "three_shells.sofa";
     const std::string cmd = std::string("/usr/bin/python3 ") + EARSHOT_MAKE_SOFA + " --out " + f.string() +

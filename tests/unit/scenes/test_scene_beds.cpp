@@ -16,13 +16,14 @@
 #include "earshot/host/scene_render.hpp"
 #include "earshot/scenes/field_stream.hpp"
 #include "earshot/scenes/scene.hpp"
+#include "../scratch_path.hpp"
 
 using namespace earshot::scenes;
 namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kBedDir = fs::temp_directory_path() / "earshot_scene_beds";
+const fs::path kBedDir = earshot::test::scratch_path("scene_beds");
 
 /// A first-order plane wave of noise from azimuth `az_deg` (90 = left), `seconds` at `rate`.
 fs::path write_field(const std::string& name, double az_deg, int rate, double seconds) {

@@ -12,6 +12,7 @@
 #include "earshot/hrtf/hrtf_set.hpp"
 #include "earshot/scenes/scene.hpp"
 #include "earshot/host/scene_render.hpp"
+#include "../scratch_path.hpp"
 
 using namespace earshot::scenes;
 using namespace earshot::host;  // render_scene
@@ -32,7 +33,7 @@ struct Wav {
   std::vector<float> l, r;
 };
 Wav render(const std::string& json, const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / "earshot_scene_tests";
+  const fs::path dir = earshot::test::scratch_path("scene_tests");
   fs::create_directories(dir);
   RenderOptions o;
   o.out = dir / (name + ".wav");
@@ -132,7 +133,7 @@ TEST(SceneJson, RoomTakesPresetNamesAndReverbItsType) {
 // render_scene goes through the plugin's C API; what the plugin refuses still
 // reaches the user as one InputError naming the file or field.
 TEST(SceneRender, PluginPathReportsBadInputByName) {
-  const fs::path dir = fs::temp_directory_path() / "earshot_scene_tests";
+  const fs::path dir = earshot::test::scratch_path("scene_tests");
   fs::create_directories(dir);
   const Scene one = parse_scene(R"({"duration_s": 0.1, "sources": [{"signal": {"type": "noise"}}]})", "one.json");
   auto error = [&](const Scene& s, RenderOptions o) -> std::string {

@@ -15,6 +15,7 @@
 #include "earshot/scenes/signal_source.hpp"
 #include "../audio/alloc_counter.hpp"
 #include "scene_test_util.hpp"
+#include "../scratch_path.hpp"
 
 using namespace earshot::scenes;
 namespace fs = std::filesystem;
@@ -162,7 +163,7 @@ TEST(Sounds, BadSoundsNameTheField) {
 namespace {
 /// A sine of `seconds` at `rate` in a stereo file of the given format.
 fs::path write_tone(const std::string& name, int rate, double hz, double seconds, int format) {
-  const fs::path p = fs::temp_directory_path() / "earshot_sound_tests" / name;
+  const fs::path p = earshot::test::scratch_path("sound_tests") / name;
   fs::create_directories(p.parent_path());
   SF_INFO info{};
   info.samplerate = rate;
@@ -198,7 +199,7 @@ TEST(FileSignal, AnyRateIsResampledAndLoops) {
 }
 
 TEST(FileSignal, MissingOrUnreadableFileNamesTheFile) {
-  const fs::path dir = fs::temp_directory_path() / "earshot_sound_tests";
+  const fs::path dir = earshot::test::scratch_path("sound_tests");
   fs::create_directories(dir);
   Signal s;
   s.type = Signal::Type::file;

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "earshot/errors.hpp"
+#include "../scratch_path.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -64,7 +65,7 @@ TEST(CameraCalibration, ReadsOpenCvsFile) {
 }
 
 TEST(CameraCalibration, ReadsAFileAndNamesItInErrors) {
-  const auto path = std::filesystem::temp_directory_path() / "earshot_test_calib.yml";
+  const auto path = earshot::test::scratch_path("calib.yml");
   {
     std::ofstream(path) << opencv_file();
   }

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include <unistd.h>
+#include "../scratch_path.hpp"
 
 namespace earshot::tracker {
 namespace {
@@ -53,7 +54,7 @@ TEST(V4l2Camera, BusyAndPermissionNameTheFix) {
 
 TEST(V4l2Camera, PermissionDeniedFromARealOpen) {
   if (::geteuid() == 0) GTEST_SKIP() << "root opens any file: EACCES cannot happen";
-  const auto path = std::filesystem::temp_directory_path() / "earshot_test_video_noperm";
+  const auto path = earshot::test::scratch_path("video_noperm");
   std::ofstream(path) << "x";
   std::filesystem::permissions(path, std::filesystem::perms::none);
   const CameraError e = open_error(path.string());
@@ -65,7 +66,7 @@ TEST(V4l2Camera, DevicesThatAreNotCamerasAreRefused) {
   const CameraError null = open_error("/dev/null");
   EXPECT_EQ(null.kind(), Kind::not_capture);
   EXPECT_EQ(std::string(null.what()).rfind("/dev/null is not a video device", 0), 0u) << null.what();
-  const auto path = std::filesystem::temp_directory_path() / "earshot_test_video_file";
+  const auto path = earshot::test::scratch_path("video_file");
   std::ofstream(path) << "not a camera";
   const CameraError file = open_error(path.string());
   EXPECT_EQ(file.kind(), Kind::not_capture) << file.what();
@@ -74,7 +75,7 @@ TEST(V4l2Camera, DevicesThatAreNotCamerasAreRefused) {
 }
 
 TEST(V4l2Camera, ListsVideoDevicesInNumberOrder) {
-  const auto dir = std::filesystem::temp_directory_path() / "earshot_test_dev";
+  const auto dir = earshot::test::scratch_path("dev");
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   for (const char* n : {"video10", "video2", "video0", "videox", "video", "audio1", "video3a"}) std::ofstream(dir / n);

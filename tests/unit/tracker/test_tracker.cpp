@@ -372,6 +372,48 @@ TEST(DotEvidence, TheTruthIsAmongTheExplanationsOfThreeDotsAndWinsNearItsPredict
   EXPECT_LT(choose_explanation(all, 0.35).log_odds, c.log_odds - 5.0);
 }
 
+TEST(DotEvidence, AnLedNearItsBeamEdgeIsNeitherSurelySeenNorSurelyDropped) {
+  // A wide beacon turned so that LED 3 faces the camera ~30 deg further off
+  // its axis than LEDs 0-2; dots of LEDs 0-2, LED 3 unseen. Moving the
+  // beam's half-angle about the off-axis angles puts LEDs inside, at or
+  // beyond its edge; scored without a prior, only the beam's terms change.
+  const Camera cam;
+  LedModel model;
+  model.leds_mm = {Vec3(-350, 50, 0), Vec3(-250, -50, 0), Vec3(-350, -50, 0), Vec3(350, 0, 0)};
+  const Pose pose{rotation_from_ypr(-0.35, 0.0, 0.0), Vec3(0, 0, 1000)};
+  auto off_axis = [&](int led) {
+    const Vec3 P = pose.apply(model.leds_mm[static_cast<size_t>(led)]);
+    return std::acos((pose.R * model.axis).dot(-P.normalized()));
+  };
+  constexpr double kDeg = M_PI / 180.0;
+  const double seen_max = std::max({off_axis(0), off_axis(1), off_axis(2)}), unseen = off_axis(3);
+  ASSERT_GT(unseen, seen_max + 25.0 * kDeg) << "off axis: seen up to " << seen_max / kDeg << ", LED 3 " << unseen / kDeg;
+  const DotFrame f = fixtures::frame_of(pose, cam, model, {0, 1, 2, -1}, 0.0);
+  for (size_t s = 0; s < 3; ++s) ASSERT_TRUE(f.slots[s] && cam.inside(*f.slots[s]));
+  ASSERT_TRUE(cam.inside(cam.project(pose.apply(model.leds_mm[3]))));
+  const EvidenceModel g{1.0 / 12.0, 0.02, 0.05, 0.1};
+  auto evidence_at = [&](double half_angle) {
+    model.half_angle = half_angle;
+    DotExplanation e;
+    e.pose = pose;
+    for (int led = 0; led < 3; ++led) e.dots.add(led, *f.slots[static_cast<size_t>(led)]);
+    e.slot_led = {0, 1, 2, -1};
+    score_explanation(e, cam, model, g, std::nullopt);
+    return e.log_evidence;
+  };
+  // LED 3 out of view (12 deg beyond the edge, LEDs 0-2 over 13 deg inside).
+  const double out_of_view = evidence_at(unseen - 12.0 * kDeg);
+  // Deep in the beam, unseen LED 3 is a dropout: ln 0.02.
+  EXPECT_NEAR(evidence_at(unseen + 12.0 * kDeg) - out_of_view, std::log(0.02), 0.05);
+  // Half a degree inside the edge it may well be out of view: far
+  // less than a dropout's cost (a hard edge charged the full ln 0.02).
+  EXPECT_GT(evidence_at(unseen + 0.5 * kDeg) - out_of_view, std::log(0.3));
+  EXPECT_LT(evidence_at(unseen + 0.5 * kDeg) - out_of_view, std::log(0.9));
+  // A seen LED 5 deg beyond its beam is unlikely: (a hard edge with a margin
+  // for noisy poses did not charge it at all).
+  EXPECT_LT(evidence_at(seen_max - 5.0 * kDeg) - evidence_at(seen_max + 12.0 * kDeg), std::log(0.05));
+}
+
 TEST(DotEvidence, CameraBehaviourLearnsDropoutAndStrayShares) {
   CameraBehaviour b;
   EXPECT_NEAR(b.dropped_share(), 0.02, 1e-9);  // the weak prior

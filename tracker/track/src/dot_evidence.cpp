@@ -16,6 +16,12 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 /// A labelled LED may face up to this far beyond its beam half-angle: the
 /// pose of three noisy dots is itself off by a few degrees.
 constexpr double kBeamMarginRad = 0.1;
+/// A real LED's beam does not end at its half-angle: its intensity falls
+/// over a few degrees and the camera's threshold meets it nearer or farther
+/// with distance. The share of an LED seen at an angle theta off its axis is
+/// modelled as Phi((half - theta) / sigma), sigma combining this softness
+/// with the pose's own uncertainty along theta.
+constexpr double kBeamEdgeSoftnessRad = 2.0 * std::numbers::pi / 180.0;
 /// Explanations whose dots fit worse than this (sum of squared residuals over
 /// sigma^2: e^-30 against an exact fit) are not worth scoring.
 constexpr double kHopelessChi2 = 60.0;
@@ -137,6 +143,29 @@ std::vector<DotExplanation> explain_dots(const DotFrame& f, const Camera& cam, c
 }
 
 namespace {
+/// The chance that `led` is in view at `pose` (covariance C): inside the
+/// image, in front, and within its beam (kBeamEdgeSoftnessRad). The
+/// off-axis angle theta = acos(a . u), a = R axis, u = -P/|P|, changes
+/// under the left perturbation (omega, dt) of the pose by
+///   d cos(theta) = omega . (a x u - (R L) x v) - v . dt,  v = (I - p p^T) a / |P|,
+/// p = P/|P|, which gives theta's variance from C.
+double chance_in_view(const Pose& pose, const Mat6& C, const LedModel& model, const Camera& cam, size_t led) {
+  const Vec3 RL = pose.R * model.leds_mm[led];
+  const Vec3 P = RL + pose.t;
+  if (!(P.z() > 1.0) || !cam.inside(cam.project(P))) return 0.0;
+  const double r = P.norm();
+  const Vec3 p = P / r, u = -p, a = pose.R * model.axis;
+  const double c = std::clamp(a.dot(u), -1.0, 1.0);
+  const double theta = std::acos(c);
+  const Vec3 v = (a - p * p.dot(a)) / r;
+  Eigen::Matrix<double, 6, 1> g;
+  g.head<3>() = a.cross(u) - RL.cross(v);
+  g.tail<3>() = -v;
+  const double sin_theta = std::max(std::sqrt(1.0 - c * c), 1e-6);
+  const double var = g.dot(C * g) / (sin_theta * sin_theta) + kBeamEdgeSoftnessRad * kBeamEdgeSoftnessRad;
+  return 0.5 * std::erfc((theta - model.half_angle) / std::sqrt(2.0 * var));
+}
+
 /// ln N(dots; their projection at the prediction, J P J^T + sigma^2 I): two
 /// LEDs' dots under a prediction of spread P, the pose integrated out.
 double log_dots_given_prediction(const LabelledDots& d, const CarriedPose& c, const Camera& cam, const LedModel& model,
@@ -171,15 +200,15 @@ void score_explanation(DotExplanation& e, const Camera& cam, const LedModel& mod
   double l = -e.dots.count * std::log(kTwoPi * var) - 0.5 * ssr / var;
   // Strays: uniform over the image; none: the frames without one.
   l += e.strays > 0 ? e.strays * std::log(g.stray_share / (cam.width * cam.height)) : std::log(1.0 - g.stray_share);
-  // Every LED the pose puts in view is either seen or dropped out.
-  const double cos_half = std::cos(model.half_angle);
+  // Every LED is seen (in view and not dropped out) or unseen (out of view
+  // or dropped out); whether it is in view is uncertain near its beam edge.
+  if (!e.partial) e.cov = pose_covariance(e.pose, e.dots.view(), cam, model, var);
+  const Mat6& pose_cov = e.partial ? prior->nominal.spread : e.cov;
   for (int led = 0; led < 4; ++led) {
     bool seen = false;
     for (const auto& c : e.dots.view()) seen = seen || c.led == led;
-    const Vec3 P = e.pose.apply(model.leds_mm[static_cast<size_t>(led)]);
-    const bool in_view = P.z() > 1.0 && (e.pose.R * model.axis).dot(-P.normalized()) >= cos_half && cam.inside(cam.project(P));
-    if (seen) l += std::log(1.0 - g.dropped_share);
-    else if (in_view) l += std::log(g.dropped_share);
+    const double seen_share = (1.0 - g.dropped_share) * chance_in_view(e.pose, pose_cov, model, cam, static_cast<size_t>(led));
+    l += std::log(std::max(seen ? seen_share : 1.0 - seen_share, 1e-12));
   }
   if (e.partial) {
     // The dots' own term is the pose-integrated density, not a fit.
@@ -189,7 +218,6 @@ void score_explanation(DotExplanation& e, const Camera& cam, const LedModel& mod
     e.log_evidence = l;
     return;
   }
-  e.cov = pose_covariance(e.pose, e.dots.view(), cam, model, var);
   if (prior) {
     e.fused = fuse(e.pose, e.cov, prior->nominal);
     l += log_sum_exp(std::log(1.0 - g.wide_weight) + log_pose_evidence(e.pose, prior->nominal, e.cov),

@@ -1,5 +1,6 @@
 #include "earshot/tracker/track/dot_tracker.hpp"
 
+
 #include <algorithm>
 #include <cmath>
 
@@ -238,6 +239,7 @@ bool DotTracker::follow(Hypothesis& h, const FrameContext& c) {
   auto lab = labeller_.follow(frame, pred);
   if (!lab) return false;
   auto got = fit_labelling(*lab, pred, c);
+  keep_labels_if_better(h, lab, got, pred, c);
   bool stray_suspect = !got && lab->dots.count == 4;
   if (got && lab->dots.count == 4) {
     h.ssr4 = 4.0 * got->second * got->second;
@@ -265,6 +267,31 @@ bool DotTracker::follow(Hypothesis& h, const FrameContext& c) {
   h.ssr_sum += lab->dots.count * rms * rms;
   ++h.frames;
   return true;
+}
+
+void DotTracker::keep_labels_if_better(const Hypothesis& h, std::optional<Labelling>& lab,
+                                       std::optional<std::pair<Pose, double>>& got, const Pose& pred,
+                                       const FrameContext& c) const {
+  // The labeller names each dot by the LED projected nearest it from the
+  // prediction; where two LEDs' dots pass close by each other (a headband's
+  // side LEDs as the head turns) that can swap their names while both stay
+  // lit. The swapped labelling fits worse, yet with coarse pixels within the
+  // gate, and its residuals then teach the pixel-noise estimate a larger
+  // noise frame by frame, which widens the gate further (seconds on a pose
+  // 30-75 deg off). So a relabelling of the same dots has to fit better
+  // than the hypothesis's own labels do on this frame.
+  Labelling own;
+  for (size_t s = 0; s < kSlots; ++s)
+    if (h.slot_led[s] >= 0 && c.frame.slots[s]) {
+      own.slot_led[s] = h.slot_led[s];
+      own.dots.add(h.slot_led[s], *c.frame.slots[s]);
+    }
+  if (own.dots.count < lab->dots.count || own.slot_led == lab->slot_led) return;
+  auto own_fit = fit_labelling(own, pred, c);
+  if (own_fit && (!got || own_fit->second < got->second)) {
+    lab = own;
+    got = own_fit;
+  }
 }
 
 double DotTracker::off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread) {

@@ -165,6 +165,11 @@ class DotTracker {
   // Their parts.
   [[nodiscard]] std::optional<std::pair<Pose, double>> fit_labelling(const Labelling& l, const Pose& pred,
                                                                      const FrameContext& c) const;
+  /// A labelling of this frame that renames dots the hypothesis had named:
+  /// kept only if it fits better than the hypothesis's own labels.
+  void keep_labels_if_better(const Hypothesis& h, std::optional<Labelling>& lab,
+                             std::optional<std::pair<Pose, double>>& got, const Pose& pred,
+                             const FrameContext& c) const;
   [[nodiscard]] static double off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread);
   /// A 4-dot labelling that fits worse than the noise: the three of its dots
   /// (or the four) whose pose is nearest the prediction.

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "earshot/tracker/track/dot_evidence.hpp"
 #include "earshot/tracker/solve/lm_refine.hpp"
@@ -265,8 +266,25 @@ bool DotTracker::follow(Hypothesis& h, const FrameContext& c) {
   h.slot_led = lab->slot_led;
   h.cost_sum += rms * rms;
   h.ssr_sum += lab->dots.count * rms * rms;
+  charge_strays(h, c);
   ++h.frames;
   return true;
+}
+
+void DotTracker::charge_strays(Hypothesis& h, const FrameContext& c) const {
+  // Three dots fit a pose exactly, so a hypothesis that calls the fourth dot
+  // a stray would win any contest of residuals against one that explains
+  // all four (a headband labelling 180 deg off won so, on 8-px cells). The
+  // likelihoods say what a stray costs: uniform over the image at the
+  // camera's stray share, against an LED dot's Gaussian of the pixel noise,
+  // ln(area / (stray share 2 pi sigma^2)) per dot (13 nats at 8-px cells),
+  // charged to the sums as the residual that would cost as much.
+  const int unexplained = c.visible - h.dots;
+  if (unexplained <= 0) return;
+  const double nats = std::log(cam_.width * cam_.height / (camera_stats_.stray_share() * 2.0 * std::numbers::pi * c.var));
+  const double ssr = 2.0 * c.var * std::max(0.0, nats) * unexplained;
+  h.ssr_sum += ssr;
+  h.cost_sum += ssr / 4.0;
 }
 
 void DotTracker::keep_labels_if_better(const Hypothesis& h, std::optional<Labelling>& lab,

@@ -170,6 +170,8 @@ class DotTracker {
   void keep_labels_if_better(const Hypothesis& h, std::optional<Labelling>& lab,
                              std::optional<std::pair<Pose, double>>& got, const Pose& pred,
                              const FrameContext& c) const;
+  /// Charges a hypothesis for the dots it calls strays (their likelihood).
+  void charge_strays(Hypothesis& h, const FrameContext& c) const;
   [[nodiscard]] static double off_prediction(const Pose& p, const Pose& pred, const std::optional<Mat6>& spread);
   /// A 4-dot labelling that fits worse than the noise: the three of its dots
   /// (or the four) whose pose is nearest the prediction.

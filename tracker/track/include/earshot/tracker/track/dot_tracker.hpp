@@ -34,9 +34,11 @@
 // the eskf's gap limit, where the carried state has spread over tens of
 // degrees, the prior's wide part is where the head usually is (a
 // PoseDistribution learnt from the tracked poses), at even weight; the
-// 45-deg beam is in every explanation (an LED it puts in view but unseen is
-// a dropout), so a return whose fourth LED is beyond its beam edge is taken
-// from its first three dots.
+// beam is in every explanation, its edge soft (an LED is in view with a
+// probability that falls over a few degrees about the half-angle, widened by
+// the pose's own uncertainty; unseen in view is a dropout, seen beyond the
+// edge unlikely), so a return whose fourth LED is at or beyond its beam
+// edge is taken from its first three dots.
 //
 // A 4-dot acquisition, after a loss or in place of a track on three dots,
 // must be reachable too when the eskf's state deserves trust: its track was
@@ -51,6 +53,14 @@
 // A labelling that keeps the last output's labels and adds a fourth dot is
 // never dropped (it settles the root a 3-dot track took), and a track that
 // does not deserve trust is still replaced by four dots that disagree.
+//
+// While tracking, the labeller names each dot by the LED projected nearest
+// it from the prediction; a naming that differs from the track's own for
+// the same lit slots is taken only if it fits better (two dots passing each
+// other swap names otherwise). A hypothesis that calls a visible dot a stray
+// is charged what a stray costs against an LED's dot (uniform over the image
+// at the camera's stray share, against the pixel noise's Gaussian), so three
+// dots fitted exactly do not beat four explained.
 //
 // Rival explanations of four dots (another labelling, or a pose outside the
 // best one's own uncertainty) compete on their summed squared residuals; the

@@ -3,6 +3,7 @@
 // docs/BENCHMARKS.md.
 //
 //   webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both] [--decimate D]
+//   webcam_accuracy --listener [--frames N] [--seeds ...] [--decimate D]
 //
 // --decimate sets the tag detector's quad_decimate (1 by default; 2 halves
 // the segmentation's resolution, the corners are still refined at full).
@@ -19,6 +20,10 @@
 // LM from the true pose on the true projections plus Gaussian noise of the
 // dot error this run measured (per axis), i.e. what any per-frame solver
 // could reach from dots as good as the detector's.
+// --listener: the tag path as the listener hears it, the detected corners
+// through LabelledTracker (the live tag path after its detector), scored as
+// tracker_motion --listener scores a walk (listener_scores.hpp: raw LM, the
+// default, --smooth and holding the last pose).
 // Seeds: held-out 1001-1003 (nothing in the detectors or the renderer was
 // tuned on them); the unit tests use seed 1.
 #include <time.h>
@@ -39,6 +44,7 @@
 #include "earshot/tracker/solve/lm_solver.hpp"
 #include "earshot/webcam/dot_detector.hpp"
 #include "earshot/webcam/video_sim.hpp"
+#include "listener_scores.hpp"
 
 using namespace earshot::tracker;
 using namespace earshot::webcam;
@@ -63,6 +69,7 @@ struct Options {
   std::vector<std::uint64_t> seeds{1001, 1002, 1003};
   bool leds = true, tag = true;
   float decimate = 1.0f;  ///< the tag detector's quad_decimate
+  bool listener = false;  ///< the tag path on the listener's terms
 };
 
 struct Stored {
@@ -182,6 +189,45 @@ void run(const Options& o, BeaconKind beacon, int width, int height, MotionProfi
   std::fflush(stdout);
 }
 
+/// The tag's detected corners per frame, labelled (slot k is corner k), with
+/// the truth, through listener_scores.hpp.
+void run_listener(const Options& o, int width, int height, MotionProfile motion) {
+  bench::WalkScores all;
+  for (const auto seed : o.seeds) {
+    VideoSimConfig cfg;
+    cfg.beacon = BeaconKind::apriltag;
+    cfg.width = width;
+    cfg.height = height;
+    cfg.motion = motion;
+    cfg.seed = seed;
+    VideoSimulator sim(cfg);
+    AprilTagOptions tag_options;
+    tag_options.decimate = o.decimate;
+    auto det = make_apriltag_detector(tag_options);
+    std::vector<DotFrame> walk;
+    VideoFrame f;
+    for (long i = 0; i < o.frames; ++i) {
+      sim.next(f);
+      const Detection d = det->detect(f.view(width, height));
+      DotFrame df;
+      df.t = f.t;
+      GroundTruth gt;
+      gt.pose = f.truth;
+      if (d.count == 4)
+        for (size_t k = 0; k < 4; ++k) {
+          df.slots[k] = Vec2(d.points[k].x, d.points[k].y);
+          gt.slot_led[k] = static_cast<int>(k) + 1;
+        }
+      df.truth = gt;
+      walk.push_back(df);
+    }
+    all.merge(bench::score_walk(sim.camera(), sim.model(), walk, true));
+  }
+  bench::print_row("tag36h11 80 mm, " + std::to_string(width) + "x" + std::to_string(height) + ", " +
+                       std::string(motion_profile_name(motion)),
+                   all);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -204,18 +250,28 @@ int main(int argc, char** argv) {
       else o.seeds = {std::strtoull(s.c_str(), nullptr, 10)};
     } else if (a == "--decimate") {
       o.decimate = static_cast<float>(std::atof(value().c_str()));
+    } else if (a == "--listener") {
+      o.listener = true;
     } else if (a == "--beacon") {
       const std::string b = value();
       o.leds = b == "leds" || b == "both";
       o.tag = b == "apriltag" || b == "both";
     } else {
-      std::fprintf(stderr, "usage: webcam_accuracy [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both] [--decimate D]\n");
+      std::fprintf(stderr, "usage: webcam_accuracy [--listener] [--frames N] [--seeds heldout|tuning|S] [--beacon leds|apriltag|both] [--decimate D]\n");
       return 2;
     }
   }
   if (o.frames <= 0 || (!o.leds && !o.tag)) {
     std::fprintf(stderr, "webcam_accuracy: nothing to run\n");
     return 2;
+  }
+  if (o.listener) {
+    std::printf("Synthetic webcam video of an 80 mm tag, %ld frames x %zu seeds per row, tag decimate %g; the corners through LabelledTracker\n\n",
+                o.frames, o.seeds.size(), static_cast<double>(o.decimate));
+    bench::print_header();
+    for (const auto& res : {std::array<int, 2>{640, 480}, std::array<int, 2>{1280, 720}})
+      for (const MotionProfile m : {MotionProfile::seated, MotionProfile::orienting}) run_listener(o, res[0], res[1], m);
+    return 0;
   }
   std::printf("Synthetic webcam video, %ld frames x %zu seeds per row (30 frames/s, 60 deg horizontal FOV, 1/60 s exposure), "
               "tag decimate %g\n\n", o.frames, o.seeds.size(), static_cast<double>(o.decimate));

@@ -1,6 +1,5 @@
 #include "earshot/tracker/track/dot_tracker.hpp"
 
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>

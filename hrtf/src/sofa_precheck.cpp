@@ -11,8 +11,8 @@ namespace earshot::hrtf::detail {
 namespace {
 
 // Layout facts from the HDF5 file format specification (superblock v2/3,
-// object header v2, dataspace v2, datatype, attribute v3 messages), read
-// the way libmysofa reads them.
+// object header v2, dataspace v1/v2, datatype, attribute v1/v3 messages),
+// read the way libmysofa reads them.
 
 /// Little-endian reads from a position; a read past the end gives nullopt
 /// (where libmysofa would read all ones).
@@ -52,11 +52,12 @@ std::string hex(std::uint64_t v) {
 /// any. nullopt: not a dataspace libmysofa would accept (it stops there).
 std::optional<std::string> dataspace(Cursor& c, const Limits& lim, std::uint64_t max_elements, std::string_view what) {
   const std::uint64_t at = c.pos;
-  if (c.byte() != 2) return std::nullopt;
+  const int version = c.byte();
+  if (version != 1 && version != 2) return std::nullopt;
   const int rank = c.byte();
   if (rank < 0 || rank > 4) return std::nullopt;
   const int flags = c.byte();
-  c.byte();  // type
+  c.value(version == 1 ? 5 : 1);  // v1: reserved bytes; v2: the type
   // libmysofa loops over the dimensions nested, outermost first: each
   // leading product counts passes (a huge first dimension loops even when a
   // later one is 0).
@@ -93,14 +94,31 @@ bool datatype(Cursor& c, int depth = 0) {
     case 1: return c.value(12).has_value();  // floating point properties
     case 3:
     case 7: return true;  // string, reference
-    case 6: {             // compound: named members, each with an offset and a type
-      if ((cv & 0xf0) != 0x30) return false;
-      for (std::uint64_t i = 0; i < (*bits & 0xffff); ++i) {
-        int ch = 0;
-        do ch = c.byte();
-        while (ch > 0);
-        for (unsigned j = 0; j < 4 && (*size >> (8 * j)) > 0; ++j) c.byte();
-        if (ch < 0 || !datatype(c, depth + 1)) return false;
+    case 6: {  // compound: named members, each with an offset and a type
+      const std::uint64_t members = *bits & 0xffff;
+      if ((cv & 0xf0) == 0x30) {
+        for (std::uint64_t i = 0; i < members; ++i) {
+          int ch = 0;
+          do ch = c.byte();
+          while (ch > 0);
+          for (unsigned j = 0; j < 4 && (*size >> (8 * j)) > 0; ++j) c.byte();
+          if (ch < 0 || !datatype(c, depth + 1)) return false;
+        }
+        return true;
+      }
+      // Version 1 (libmysofa reads it too; fuzz_sofa found a header this
+      // check stopped at while libmysofa went on to a dataspace it read for
+      // minutes): each name padded to 8 bytes, a 4-byte offset, a
+      // dimensionality that must be 0, 27 bytes libmysofa skips, the type.
+      for (std::uint64_t i = 0; i < members; ++i) {
+        unsigned length = 0;
+        for (int ch = c.byte(); ch != 0; ch = c.byte(), ++length)
+          if (ch < 0 || length + 1 >= 256) return false;
+        c.pos += (7 - length) & 7;
+        c.value(4);
+        if (c.byte() != 0) return false;
+        c.pos += 27;
+        if (!datatype(c, depth + 1)) return false;
       }
       return true;
     }
@@ -128,14 +146,22 @@ std::string messages(std::span<const std::uint8_t> f, const Block& b, const Limi
     const std::uint64_t at = c.pos, end = c.pos + *size;
     if (type == 1) {
       if (auto p = dataspace(c, lim, lim.max_dataset, "a dataset's dataspace"); p && !p->empty()) return *p;
-    } else if (type == 12) {  // attribute: version 3, flags, sizes, encoding, name, datatype, dataspace
-      if (c.byte() != 3) break;
+    } else if (type == 12) {
+      // Attribute: version, flags, the sizes of name, datatype and dataspace,
+      // (v3) the encoding, then the three; version 1 pads each to 8 bytes
+      // (fuzz_sofa found a v1 attribute libmysofa read for minutes, which
+      // this check had passed over when it knew only v3).
+      const int version = c.byte();
+      if (version != 1 && version != 3) break;
       const int aflags = c.byte();
-      const auto name_size = c.value(2);
-      c.value(2), c.value(2), c.byte();
-      if (!name_size || aflags < 0 || (aflags & 3)) break;
+      const auto name_size = c.value(2), datatype_size = c.value(2);
+      c.value(2);
+      if (version == 3) c.byte();
+      if (!name_size || !datatype_size || aflags < 0 || (version == 3 && (aflags & 3))) break;
       c.pos += *name_size;
+      if (version == 1) c.pos += (8 - *name_size) & 7;
       if (!datatype(c)) break;
+      if (version == 1) c.pos += (8 - *datatype_size) & 7;
       if (auto p = dataspace(c, lim, kMaxAttributeElements, "an attribute's dataspace"); p && !p->empty()) return *p;
     } else if (type == 16) {  // continuation: the next block's address and length
       const auto offset = c.value(lim.size_of_offsets), length = c.value(lim.size_of_lengths);

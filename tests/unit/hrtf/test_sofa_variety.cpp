@@ -17,6 +17,8 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <initializer_list>
 #include <filesystem>
 #include <memory>
@@ -272,7 +274,9 @@ TEST(SofaLimits, ThreeReceiversAreRefused) {
 
 namespace {
 
-std::vector<std::uint8_t> one_message_file(bool attribute, std::uint64_t dim) {
+/// `v1`: the attribute message and its dataspace in their version 1 layouts
+/// (8-byte padding; reserved bytes in the dataspace), which libmysofa reads too.
+std::vector<std::uint8_t> one_message_file(bool attribute, std::uint64_t dim, bool v1 = false) {
   // Signature, superblock version 2, 8-byte offsets and lengths, flags; then
   // the base, extension, end-of-file and root addresses and the checksum.
   std::vector<std::uint8_t> f(48, 0);
@@ -285,11 +289,17 @@ std::vector<std::uint8_t> one_message_file(bool attribute, std::uint64_t dim) {
   const auto add = [&body](std::initializer_list<int> bytes) {
     for (int v : bytes) body.push_back(static_cast<std::uint8_t>(v));
   };
-  if (attribute) {
+  if (attribute && !v1) {
     add({3, 0, 2, 0, 12, 0, 12, 0, 0, 'a', 0});             // version 3, name "a", encoding
     add({0x10, 0, 0, 0, 1, 0, 0, 0, 0, 0, 8, 0});           // an 8-bit integer
+  } else if (attribute) {
+    add({1, 0, 2, 0, 12, 0, 16, 0, 'a', 0, 0, 0, 0, 0, 0, 0});  // version 1, name "a" padded to 8
+    add({0x10, 0, 0, 0, 1, 0, 0, 0, 0, 0, 8, 0, 0, 0, 0, 0});   // an 8-bit integer, padded to 16
   }
-  add({2, 1, 0, 1});  // dataspace version 2, rank 1, no maximum sizes, simple
+  if (v1)
+    add({1, 1, 0, 0, 0, 0, 0, 0});  // dataspace version 1, rank 1, no maximum sizes, reserved
+  else
+    add({2, 1, 0, 1});  // dataspace version 2, rank 1, no maximum sizes, simple
   for (int i = 0; i < 8; ++i) body.push_back(static_cast<std::uint8_t>(dim >> (8 * i)));
   for (char c : {'O', 'H', 'D', 'R'}) f.push_back(static_cast<std::uint8_t>(c));
   put(2, 1), put(0, 1), put(body.size() + 4 + 4, 1);  // version, flags, chunk size
@@ -305,6 +315,25 @@ TEST(SofaHeaderCheck, AttributeDeclaringHugeDataspaceIsRefused) {
   const std::string p = sofa_header_problem(one_message_file(true, std::uint64_t{1} << 40), 1000);
   EXPECT_NE(p.find("an attribute's dataspace"), std::string::npos) << p;
   EXPECT_NE(p.find("1099511627776 elements, more than 4096"), std::string::npos) << p;
+}
+
+TEST(SofaHeaderCheck, VersionOneAttributeDeclaringHugeDataspaceIsRefused) {
+  // libmysofa reads attribute and dataspace messages of version 1 too.
+  using earshot::hrtf::detail::sofa_header_problem;
+  EXPECT_EQ(sofa_header_problem(one_message_file(true, 4, true), 1000), "");
+  const std::string p = sofa_header_problem(one_message_file(true, std::uint64_t{1} << 40, true), 1000);
+  EXPECT_NE(p.find("an attribute's dataspace"), std::string::npos) << p;
+  EXPECT_NE(p.find("1099511627776 elements, more than 4096"), std::string::npos) << p;
+}
+
+TEST(SofaHeaderCheck, AFileFuzzSofaFoundLibmysofaReadingForMinutesIsRefused) {
+  // An attribute whose compound type has a version 1 member (which this
+  // check did not parse, and stopped), then a dataspace of 1.4e18 elements.
+  std::ifstream in(EARSHOT_FUZZ_CORPUS "/sofa/compound_v1_member.sofa", std::ios::binary);
+  ASSERT_TRUE(in) << "missing seed";
+  const std::vector<std::uint8_t> f((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string p = earshot::hrtf::detail::sofa_header_problem(f, std::uint64_t{1} << 25);
+  EXPECT_NE(p.find("an attribute's dataspace"), std::string::npos) << p;
 }
 
 TEST(SofaHeaderCheck, DatasetOverTheSampleLimitIsRefused) {

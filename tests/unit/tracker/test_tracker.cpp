@@ -341,6 +341,23 @@ TEST(DotTracker, FourDotsStillReplaceATrackTheyHaveNotFittedForLong) {
   EXPECT_EQ(after_a_half_turn(FilterKind::eskf, 10, 0.04), PoseState::tracking);
 }
 
+namespace {
+/// The headband beacon at f = 1350 with 8-px cells, seed 2 of a motion
+/// profile, tracked by the default (eskf).
+struct Headband8px {
+  Camera cam = Camera::with_focal(1350.0);
+  LedModel model = load_led_model(EARSHOT_HEADBAND_MODEL);
+  SimulatorConfig sim;
+  TrackerConfig tracker;
+  explicit Headband8px(MotionProfile motion) {
+    sim.seed = 2;
+    sim.motion = motion;
+    sim.pixels = PixelModel::quantize8;
+    tracker.filter = FilterKind::eskf;
+  }
+};
+}  // namespace
+
 TEST(DotTracker, KeepsItsLabelsWhenTwoDotsPassEachOther) {
   // The headband's side LEDs pass close by each other as the head turns;
   // with 8-px cells the labeller, naming each dot by the LED projected
@@ -348,15 +365,8 @@ TEST(DotTracker, KeepsItsLabelsWhenTwoDotsPassEachOther) {
   // and the swapped labelling, fitting within a noise estimate its own
   // residuals kept raising, was followed for 6 s up to 75 deg off. Every
   // frame keeps four LEDs in view, so any flip is the labelling's.
-  const Camera cam = Camera::with_focal(1350.0);
-  const LedModel model = load_led_model(EARSHOT_HEADBAND_MODEL);
-  SimulatorConfig s;
-  s.seed = 2;
-  s.motion = MotionProfile::seated;
-  s.pixels = PixelModel::quantize8;
-  TrackerConfig t;
-  t.filter = FilterKind::eskf;
-  const WalkResult w = walk(t, s, 2700, cam, model);
+  const Headband8px rig(MotionProfile::seated);
+  const WalkResult w = walk(rig.tracker, rig.sim, 2700, rig.cam, rig.model);
   EXPECT_EQ(w.tracked3, w.frames3);
   EXPECT_EQ(w.flips, 0);
 }
@@ -367,16 +377,9 @@ TEST(DotTracker, AHypothesisThatCallsADotAStrayPaysForIt) {
   // the truth explaining all four: on this fast sweep (seed 2, t = 33.07 s,
   // after a 0.1 s loss) a headband labelling 150-163 deg off was given out
   // for 15 frames. Charged the stray's likelihood, it loses.
-  const Camera cam = Camera::with_focal(1350.0);
-  const LedModel model = load_led_model(EARSHOT_HEADBAND_MODEL);
-  SimulatorConfig s;
-  s.seed = 2;
-  s.motion = MotionProfile::sweep;
-  s.pixels = PixelModel::quantize8;
-  Simulator sim(cam, model, s);
-  TrackerConfig t;
-  t.filter = FilterKind::eskf;
-  DotTracker tracker(cam, model, t);
+  const Headband8px rig(MotionProfile::sweep);
+  Simulator sim(rig.cam, rig.model, rig.sim);
+  DotTracker tracker(rig.cam, rig.model, rig.tracker);
   int far_off = 0;
   for (int i = 0; i < 3400; ++i) {
     const DotFrame f = sim.next();
